@@ -1,0 +1,43 @@
+"""Errors in language files, reported as `FILE:LINE:COL: error: message`."""
+from __future__ import annotations
+
+from typing import Optional
+
+from .nodes import Loc
+
+
+class PddlError(Exception):
+    """A problem in a domain or problem file, with the place it was found.
+
+    `str(error)` is the one-line report; `render()` may add the source line and a caret.
+    """
+
+    def __init__(self, message: str, loc: Optional[Loc] = None, file: Optional[str] = None):
+        self.message = message
+        self.loc = loc
+        self.file = loc.file if loc is not None else (file or "<input>")
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        if self.loc is None:
+            return f"{self.file}: error: {self.message}"
+        return f"{self.loc}: error: {self.message}"
+
+    def render(self, source: Optional[str] = None) -> str:
+        """The one-line report, followed by the offending source line and a caret if known."""
+        line = str(self)
+        if self.loc is None or source is None:
+            return line
+        lines = source.splitlines()
+        if not 1 <= self.loc.line <= len(lines):
+            return line
+        text = lines[self.loc.line - 1].expandtabs(1)
+        return f"{line}\n  {text}\n  {' ' * (self.loc.col - 1)}^"
+
+
+def did_you_mean(name: str, candidates) -> str:
+    """A ` (did you mean 'x'?)` suffix naming the closest candidate, or ''."""
+    import difflib
+
+    close = difflib.get_close_matches(name, sorted(candidates), n=1, cutoff=0.75)
+    return f" (did you mean '{close[0]}'?)" if close else ""

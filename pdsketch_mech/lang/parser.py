@@ -1,0 +1,404 @@
+"""Text -> syntax tree (`nodes`), with Lark (LALR, contextual lexer) and `grammar.lark`.
+
+Syntax problems are raised as `PddlError` carrying `file:line:col`; no Lark exception
+escapes this module.
+"""
+from __future__ import annotations
+
+import functools
+import re
+from typing import Iterable, List, Optional, Tuple, Union
+
+from lark import Lark, Token, Transformer, v_args
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+
+from .errors import PddlError, did_you_mean
+from .nodes import (
+    Action, ActionCall, And, Atom, Const, Domain, Equals, Exists, Forall, Imply, Loc, Mechanism,
+    Not, Or, Predicate, Problem, SceneEntry, SceneProp, Stream, Symbol, TypedName, Var, When,
+)
+
+KNOWN_REQUIREMENTS = frozenset({
+    ":strips", ":typing", ":negative-preconditions", ":disjunctive-preconditions", ":equality",
+    ":existential-preconditions", ":universal-preconditions", ":quantified-preconditions",
+    ":conditional-effects", ":adl", ":streams", ":mechanisms", ":scenes",
+})
+
+# How terminals are named in messages ("expected ')' or a variable").
+_TERMINAL_WORDS = {
+    "NAME": "a name", "VARIABLE": "a variable", "REQUIREMENT": "a requirement such as :strips",
+    "KEYWORD": "a property such as :asset", "NUMBER": "a number", "STRING": 'a "string"',
+    "$END": "end of file", "<END-OF-FILE>": "end of file",
+}
+
+
+@functools.lru_cache(maxsize=1)
+def _lark() -> Lark:
+    return Lark.open(
+        "grammar.lark", rel_to=__file__, parser="lalr", lexer="contextual",
+        propagate_positions=True, maybe_placeholders=False,
+    )
+
+
+def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:
+    """Parse one `(define (domain ...))` or `(define (problem ...))` from `text`."""
+    try:
+        tree = _lark().parse(text)
+    except UnexpectedInput as exc:
+        raise _syntax_error(exc, text, file) from None
+    try:
+        return _ToNodes(file).transform(tree)
+    except VisitError as exc:
+        if isinstance(exc.orig_exc, PddlError):
+            raise exc.orig_exc from None
+        raise
+
+
+def parse_file(path: str) -> Union[Domain, Problem]:
+    """Parse the file at `path`; an unreadable file is a `PddlError` too."""
+    try:
+        with open(path, encoding="utf-8") as handle:
+            text = handle.read()
+    except OSError as exc:
+        raise PddlError(f"cannot read file: {exc.strerror or exc}", file=path) from None
+    except UnicodeDecodeError:
+        raise PddlError("cannot read file: not UTF-8 text", file=path) from None
+    return parse_text(text, path)
+
+
+# ----------------------------------------------------------------------------- errors
+def _describe_terminal(name: str) -> str:
+    if name in _TERMINAL_WORDS:
+        return _TERMINAL_WORDS[name]
+    for terminal in _lark().terminals:
+        if terminal.name == name and terminal.pattern.type == "str":
+            return f"'{terminal.pattern.value}'"
+    return name.lower()
+
+
+def _expected_words(names: Iterable[str]) -> List[str]:
+    return sorted({_describe_terminal(n) for n in names})
+
+
+def _one_of(words: List[str]) -> str:
+    if len(words) > 12:
+        return "one of " + ", ".join(words[:12]) + f", ... ({len(words) - 12} more)"
+    return ("one of " + ", ".join(words)) if len(words) > 1 else (words[0] if words else "nothing")
+
+
+def _open_parens(text: str) -> List[int]:
+    """Offsets of the '(' still open at the end of `text` (comments and strings skipped)."""
+    stack: List[int] = []
+    in_comment = in_string = False
+    for index, char in enumerate(text):
+        if in_comment:
+            in_comment = char != "\n"
+        elif in_string:
+            in_string = char != '"'
+        elif char == ";":
+            in_comment = True
+        elif char == '"':
+            in_string = True
+        elif char == "(":
+            stack.append(index)
+        elif char == ")" and stack:
+            stack.pop()
+    return stack
+
+
+def _line_col(text: str, offset: int) -> Tuple[int, int]:
+    return text.count("\n", 0, offset) + 1, offset - (text.rfind("\n", 0, offset) + 1) + 1
+
+
+def _syntax_error(exc: UnexpectedInput, text: str, file: str) -> PddlError:
+    at_end = isinstance(exc, UnexpectedEOF) or (
+        isinstance(exc, UnexpectedToken) and exc.token.type == "$END")
+    if at_end:
+        opened = _open_parens(text)
+        where = ""
+        if opened:
+            line, col = _line_col(text, opened[-1])
+            where = f"; the '(' at line {line}, column {col} is never closed"
+        line, col = _line_col(text, len(text.rstrip("\n")))
+        return PddlError(f"unexpected end of file{where}", Loc(file, line, col))
+
+    loc = Loc(file, exc.line, exc.column)
+    # LALR merges look-ahead sets across states; accepts() replays the parse per terminal,
+    # so an action's error does not also offer a stream's ':inputs'.
+    parser = getattr(exc, "interactive_parser", None)
+    if isinstance(exc, UnexpectedToken):
+        expected, word, kind = exc.expected, str(exc.token), exc.token.type
+    else:
+        expected, kind = exc.allowed, None
+        word = re.match(r"[^\s()]*", text[exc.pos_in_stream:]).group(0) or text[exc.pos_in_stream]
+    if word.startswith('"'):
+        return PddlError("unterminated string: a string must end on the line it starts", loc)
+    if word.lower() == ":functions":
+        return PddlError("numeric fluents (:functions) are not supported", loc)
+    if set(expected) <= {"$END", "<END-OF-FILE>"}:
+        return PddlError(f"unexpected '{word}' after the end of the definition", loc)
+
+    words = _expected_words(parser.accepts() if parser is not None else expected)
+    hint = did_you_mean(word.lower(), [w.strip("'") for w in words if w.startswith("'")])
+    shown = {"NAME": f"name '{word}'", "VARIABLE": f"variable '{word}'"}.get(kind, f"'{word}'")
+    return PddlError(f"unexpected {shown}{hint}; expected {_one_of(words)}", loc)
+
+
+# ----------------------------------------------------------------------------- tree -> nodes
+def _tagged(tag: str):
+    """A transformer callback turning `(:key value)` into a (tag, value, loc) triple."""
+    @v_args(meta=True)
+    def build(self, meta, children):
+        return tag, children[0] if children else (), self._loc(meta)
+    return build
+
+
+class _ToNodes(Transformer):
+    """Builds nodes bottom-up. Sections and properties come up as (tag, value, loc) triples."""
+
+    def __init__(self, file: str):
+        super().__init__()
+        self.file = file
+
+    def _loc(self, item) -> Loc:
+        if isinstance(item, Token):
+            return Loc(self.file, item.line, item.column)
+        return Loc(self.file, item.line, item.column)
+
+    def _fields(self, items, where: str) -> dict:
+        """Collect (tag, value, loc) triples into a dict, rejecting repeats.
+
+        Actions, streams and mechanisms arrive as nodes and are gathered in lists by class
+        name; predicate sections may repeat and are concatenated.
+        """
+        out: dict = {}
+        for item in items:
+            if not isinstance(item, tuple):
+                out.setdefault(type(item).__name__, []).append(item)
+                continue
+            tag, value, loc = item
+            if tag == "predicates":
+                out.setdefault(tag, []).extend(value)
+            elif tag in out:
+                raise PddlError(f"duplicate :{tag.replace('_', '-')} in {where}", loc)
+            else:
+                out[tag] = value
+        return out
+
+    # -- top level
+    def start(self, children):
+        return children[0]
+
+    @v_args(meta=True)
+    def domain(self, meta, children):
+        name, *items = children
+        f = self._fields(items, f"domain '{name.lower()}'")
+        return Domain(
+            name=name.lower(), requirements=f.get("requirements", ()), extends=f.get("extends", ()),
+            types=f.get("types", ()), value_types=f.get("value_types", ()),
+            constants=f.get("constants", ()), predicates=tuple(f.get("predicates", ())),
+            actions=tuple(f.get("Action", ())), streams=tuple(f.get("Stream", ())),
+            mechanisms=tuple(f.get("Mechanism", ())), loc=self._loc(meta),
+        )
+
+    @v_args(meta=True)
+    def problem(self, meta, children):
+        name, *items = children
+        f = self._fields(items, f"problem '{name.lower()}'")
+        loc = self._loc(meta)
+        if "domain" not in f:
+            raise PddlError(f"problem '{name.lower()}' names no domain: add (:domain NAME)", loc)
+        return Problem(
+            name=name.lower(), domain_name=f["domain"], requirements=f.get("requirements", ()),
+            objects=f.get("objects", ()), init=f.get("init", ()), goal=f.get("goal", And(())),
+            scene=f.get("scene"), loc=loc,
+        )
+
+    # -- sections (tagged)
+    @v_args(meta=True)
+    def extends(self, meta, tokens):
+        return "extends", tuple(t[1:-1] for t in tokens), self._loc(meta)
+
+    @v_args(meta=True)
+    def requirements(self, meta, tokens):
+        for token in tokens:
+            if token.lower() not in KNOWN_REQUIREMENTS:
+                hint = did_you_mean(token.lower(), KNOWN_REQUIREMENTS)
+                raise PddlError(f"unsupported requirement '{token}'{hint}", self._loc(token))
+        return "requirements", tuple(t.lower() for t in tokens), self._loc(meta)
+
+    types = _tagged("types")
+    value_types = _tagged("value_types")
+    constants = _tagged("constants")
+    objects = _tagged("objects")
+
+    @v_args(meta=True)
+    def predicates(self, meta, children):
+        return "predicates", children, self._loc(meta)
+
+    @v_args(meta=True)
+    def problem_domain(self, meta, children):
+        return "domain", children[0].lower(), self._loc(meta)
+
+    @v_args(meta=True)
+    def init(self, meta, children):
+        return "init", tuple(children), self._loc(meta)
+
+    @v_args(meta=True)
+    def goal(self, meta, children):
+        return "goal", children[0], self._loc(meta)
+
+    # -- typed lists
+    def names(self, tokens):
+        return list(tokens)
+
+    vars = names
+
+    def type_ref(self, children):
+        return children[0].lower()
+
+    def either_type(self, children):
+        raise PddlError("'either' types are not supported; declare a common parent type instead",
+                        self._loc(children[0]))
+
+    def typed_names(self, children):
+        out, pending = [], []
+        for child in children:
+            if isinstance(child, list):
+                pending.extend(child)
+            else:
+                out.extend(TypedName(t.lower(), child, self._loc(t)) for t in pending)
+                pending = []
+        out.extend(TypedName(t.lower(), "object", self._loc(t)) for t in pending)
+        return tuple(out)
+
+    typed_vars = typed_names
+
+    @v_args(meta=True)
+    def predicate_decl(self, meta, children):
+        name, params = children
+        return Predicate(name.lower(), params, self._loc(meta))
+
+    # -- actions, streams, mechanisms
+    @v_args(meta=True)
+    def action(self, meta, children):
+        name, *props = children
+        f = self._fields(props, f"action '{name.lower()}'")
+        return Action(name.lower(), f.get("parameters", ()), f.get("precondition", And(())),
+                      f.get("effect", And(())), self._loc(meta))
+
+    @v_args(meta=True)
+    def stream(self, meta, children):
+        name, *props = children
+        f = self._fields(props, f"stream '{name.lower()}'")
+        return Stream(name.lower(), f.get("inputs", ()), f.get("domain", And(())), f.get("outputs", ()),
+                      f.get("certified", And(())), f.get("sampler"), self._loc(meta))
+
+    @v_args(meta=True)
+    def mechanism(self, meta, children):
+        name, *props = children
+        f = self._fields(props, f"mechanism '{name.lower()}'")
+        return Mechanism(name.lower(), f.get("parameters", ()), f.get("precondition", And(())),
+                         f.get("certified", And(())), f.get("actions", ()), f.get("sampler"),
+                         self._loc(meta))
+
+    parameters = _tagged("parameters")
+    precondition = _tagged("precondition")
+    effect = _tagged("effect")
+    inputs = _tagged("inputs")
+    stream_domain = _tagged("domain")
+    outputs = _tagged("outputs")
+    certified = _tagged("certified")
+
+    @v_args(meta=True)
+    def sampler(self, meta, children):
+        token = children[0]
+        value = token[1:-1] if token.type == "STRING" else token.lower()
+        return "sampler", value, self._loc(meta)
+
+    @v_args(meta=True)
+    def steps(self, meta, children):
+        return "actions", tuple(children), self._loc(meta)
+
+    @v_args(meta=True)
+    def call(self, meta, children):
+        name, *args = children
+        return ActionCall(name.lower(), tuple(args), self._loc(meta))
+
+    # -- formulas
+    def formula_or_empty(self, children):
+        return children[0]
+
+    @v_args(meta=True)
+    def empty_formula(self, meta, children):
+        return And((), self._loc(meta))
+
+    @v_args(meta=True)
+    def atom(self, meta, children):
+        name, *args = children
+        return Atom(name.lower(), tuple(args), self._loc(meta))
+
+    def var(self, children):
+        return Var(children[0].lower(), self._loc(children[0]))
+
+    def const(self, children):
+        return Const(children[0].lower(), self._loc(children[0]))
+
+    @v_args(meta=True)
+    def equals(self, meta, children):
+        return Equals(children[0], children[1], self._loc(meta))
+
+    @v_args(meta=True)
+    def and_(self, meta, children):
+        return And(tuple(children), self._loc(meta))
+
+    @v_args(meta=True)
+    def or_(self, meta, children):
+        return Or(tuple(children), self._loc(meta))
+
+    @v_args(meta=True)
+    def not_(self, meta, children):
+        return Not(children[0], self._loc(meta))
+
+    @v_args(meta=True)
+    def imply(self, meta, children):
+        return Imply(children[0], children[1], self._loc(meta))
+
+    @v_args(meta=True)
+    def forall(self, meta, children):
+        return Forall(children[0], children[1], self._loc(meta))
+
+    @v_args(meta=True)
+    def exists(self, meta, children):
+        return Exists(children[0], children[1], self._loc(meta))
+
+    @v_args(meta=True)
+    def when(self, meta, children):
+        return When(children[0], children[1], self._loc(meta))
+
+    # -- scene
+    @v_args(meta=True)
+    def scene(self, meta, children):
+        return "scene", tuple(children), self._loc(meta)
+
+    @v_args(meta=True)
+    def scene_entry(self, meta, children):
+        name, *props = children
+        return SceneEntry(name.lower(), tuple(props), self._loc(meta))
+
+    @v_args(meta=True)
+    def scene_prop(self, meta, children):
+        key = children[0].lower()
+        return SceneProp(key, children[1] if len(children) > 1 else None, self._loc(meta))
+
+    def number(self, children):
+        return float(children[0])
+
+    def string(self, children):
+        return str(children[0][1:-1])
+
+    def symbol(self, children):
+        return Symbol(children[0].lower())
+
+    def vector(self, children):
+        return tuple(children)

@@ -1,0 +1,153 @@
+"""A problem's `:scene` section -> `SceneObject`s: what the simulator loads, and where.
+
+Scene syntax, one entry per physical object declared in `:objects`:
+
+    (:scene
+      (table :asset "table" :position (0 0 0) :fixed)
+      (hook  :asset "l-stick/0" :position (0.45 0.1 0.02) :rpy-deg (0 0 90) :on table)
+      (box   :asset "block/1" :position (0.8 0 0.03) :quat (0 0 0 1) :mass 0.3 :friction 0.6))
+
+Orientation is given at most once: `:quat (x y z w)`, `:rpy (r p y)` in radians, or
+`:rpy-deg (r p y)` in degrees (default: identity). `:scale` is one factor or three.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Dict, Optional, Tuple
+
+from scipy.spatial.transform import Rotation
+
+from .errors import PddlError, did_you_mean
+from .nodes import Problem, SceneEntry, SceneProp, Symbol
+
+Vec3 = Tuple[float, float, float]
+Quat = Tuple[float, float, float, float]
+
+# key -> what its value must be, for the messages.
+SCENE_KEYS = {
+    ":asset": 'an asset name string, e.g. "block/0"',
+    ":position": "a vector (x y z) in metres",
+    ":quat": "a unit quaternion (x y z w)",
+    ":rpy": "roll pitch yaw in radians (r p y)",
+    ":rpy-deg": "roll pitch yaw in degrees (r p y)",
+    ":fixed": "a flag with no value",
+    ":mass": "a positive number (kg)",
+    ":friction": "a non-negative number",
+    ":scale": "a positive number or a vector (sx sy sz)",
+    ":on": "the name of the supporting scene object",
+    ":color": "a vector (r g b a) with entries in [0, 1]",
+}
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """One physical body of a problem, ready to be loaded into a world."""
+
+    name: str
+    asset: str
+    position: Vec3
+    orientation: Quat = (0.0, 0.0, 0.0, 1.0)
+    fixed: bool = False
+    mass: Optional[float] = None
+    friction: Optional[float] = None
+    scale: Vec3 = (1.0, 1.0, 1.0)
+    support: Optional[str] = None
+    color: Optional[Tuple[float, float, float, float]] = None
+
+
+def build_scene(problem: Problem) -> Tuple[SceneObject, ...]:
+    """Validate `problem.scene` and return its objects; `()` when the problem has no scene."""
+    declared = {o.name for o in problem.objects}
+    entries: Dict[str, SceneEntry] = {}
+    for entry in problem.scene or ():
+        if entry.name not in declared:
+            raise PddlError(f"scene object '{entry.name}' is not declared in :objects"
+                            f"{did_you_mean(entry.name, declared)}", entry.loc)
+        if entry.name in entries:
+            raise PddlError(f"scene object '{entry.name}' appears twice", entry.loc)
+        entries[entry.name] = entry
+    objects = tuple(_scene_object(entry) for entry in entries.values())
+    for obj, entry in zip(objects, entries.values()):
+        if obj.support is not None and obj.support not in entries:
+            prop = next(p for p in entry.props if p.key == ":on")
+            raise PddlError(f"scene object '{obj.name}' is :on '{obj.support}', which has no scene entry",
+                            prop.loc)
+    return objects
+
+
+def _scene_object(entry: SceneEntry) -> SceneObject:
+    props: Dict[str, SceneProp] = {}
+    for prop in entry.props:
+        if prop.key not in SCENE_KEYS:
+            raise PddlError(f"scene object '{entry.name}': unknown property '{prop.key}'"
+                            f"{did_you_mean(prop.key, SCENE_KEYS)}; expected one of "
+                            f"{', '.join(SCENE_KEYS)}", prop.loc)
+        if prop.key in props:
+            raise PddlError(f"scene object '{entry.name}': '{prop.key}' is given twice", prop.loc)
+        props[prop.key] = prop
+    for required in (":asset", ":position"):
+        if required not in props:
+            raise PddlError(f"scene object '{entry.name}' has no {required} ({SCENE_KEYS[required]})",
+                            entry.loc)
+    rotations = [p.key for p in entry.props if p.key in (":quat", ":rpy", ":rpy-deg")]
+    if len(rotations) > 1:
+        raise PddlError(f"scene object '{entry.name}': give one orientation, not both "
+                        f"{rotations[0]} and {rotations[1]}", props[rotations[1]].loc)
+
+    def check(key: str, ok: bool) -> None:
+        if not ok:
+            raise PddlError(f"scene object '{entry.name}': {key} must be {SCENE_KEYS[key]}", props[key].loc)
+
+    asset = props[":asset"].value
+    check(":asset", isinstance(asset, str) and bool(asset.strip()))
+    position = _vector(props[":position"].value, 3)
+    check(":position", position is not None)
+    orientation: Quat = (0.0, 0.0, 0.0, 1.0)
+    if ":quat" in props:
+        quat = _vector(props[":quat"].value, 4)
+        check(":quat", quat is not None and math.isclose(math.sqrt(sum(q * q for q in quat)), 1.0,
+                                                         abs_tol=1e-3))
+        orientation = tuple(q / math.sqrt(sum(x * x for x in quat)) for q in quat)
+    for key, degrees in ((":rpy", False), (":rpy-deg", True)):
+        if key in props:
+            rpy = _vector(props[key].value, 3)
+            check(key, rpy is not None)
+            orientation = tuple(float(q) for q in Rotation.from_euler("xyz", rpy, degrees=degrees).as_quat())
+    if ":fixed" in props:
+        check(":fixed", props[":fixed"].value is None)
+    for key in (":mass", ":friction"):
+        if key in props:
+            check(key, isinstance(props[key].value, float))
+    mass = _number(props, ":mass")
+    if mass is not None:
+        check(":mass", mass > 0)
+    friction = _number(props, ":friction")
+    if friction is not None:
+        check(":friction", friction >= 0)
+    scale: Vec3 = (1.0, 1.0, 1.0)
+    if ":scale" in props:
+        value = props[":scale"].value
+        scale = (value,) * 3 if isinstance(value, float) else _vector(value, 3)
+        check(":scale", scale is not None and all(s > 0 for s in scale))
+    support = None
+    if ":on" in props:
+        check(":on", isinstance(props[":on"].value, Symbol))
+        support = props[":on"].value.name
+    color = None
+    if ":color" in props:
+        color = _vector(props[":color"].value, 4)
+        check(":color", color is not None and all(0.0 <= c <= 1.0 for c in color))
+    return SceneObject(entry.name, asset.strip(), position, orientation, ":fixed" in props, mass,
+                       friction, scale, support, color)
+
+
+def _vector(value, length: int):
+    if isinstance(value, tuple) and len(value) == length and all(isinstance(v, float) for v in value):
+        return tuple(value)
+    return None
+
+
+def _number(props: Dict[str, SceneProp], key: str) -> Optional[float]:
+    value = props[key].value if key in props else None
+    return value if isinstance(value, float) else None
