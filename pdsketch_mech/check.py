@@ -21,7 +21,9 @@ def _plural(count: int, word: str) -> str:
 
 def describe_domain(loaded: LoadedDomain) -> str:
     d = loaded.domain
-    return (f"domain '{d.name}': {_plural(len(d.types) + len(d.value_types), 'type')}, "
+    fragments = len(loaded.files) - 1
+    extended = f" (+{_plural(fragments, 'fragment')})" if fragments else ""
+    return (f"domain '{d.name}'{extended}: {_plural(len(d.types) + len(d.value_types), 'type')}, "
             f"{_plural(len(d.predicates), 'predicate')}, {_plural(len(d.actions), 'action')}, "
             f"{_plural(len(d.streams), 'stream')}, {_plural(len(d.mechanisms), 'mechanism')}")
 
