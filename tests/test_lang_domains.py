@@ -141,3 +141,22 @@ def test_problem_finds_its_domain_beside_it():
     problem = sorted(f for f in os.listdir(folder) if f != "domain.pddl" and f.endswith(".pddl"))[0]
     domain, _ = load_problem(os.path.join(folder, problem))
     assert os.path.basename(domain.files[0]) == "domain.pddl"
+
+
+def test_a_stream_without_outputs_is_a_test(write_files):
+    text = open(BASIS).read().rstrip()[:-1] + """
+  (:stream test-cfree
+    :inputs (?x - item ?g - grasp ?y - item)
+    :domain (valid-grasp ?x ?g)
+    :certified (touching ?x ?y)
+    :sampler "collision-free"))"""
+    (path,) = write_files(**{"basis.pddl": text})
+    stream = load_domain([path]).domain.streams[-1]
+    assert stream.name == "test-cfree" and stream.outputs == () and stream.sampler == "collision-free"
+
+
+def test_a_stream_with_outputs_must_certify_them(write_files):
+    text = open(BASIS).read().replace(":certified (valid-grasp ?x ?g)\n", "")
+    (path,) = write_files(**{"basis.pddl": text})
+    with pytest.raises(PddlError, match="stream 'sample-grasp' certifies nothing"):
+        load_domain([path])

@@ -132,39 +132,34 @@ def _properties(head: str, props: Iterable[str]) -> str:
     return "\n".join([f"  ({head}", *(f"    {p}" for p in props)]) + ")"
 
 
+def _formula_props(*pairs) -> List[str]:
+    """`:key formula` lines for the formulas that are not the empty conjunction."""
+    return [f"{key} {_block(f, 4)}" for key, f in pairs if f != And(())]
+
+
+def _sampler_prop(sampler) -> List[str]:
+    return [] if sampler is None else [f":sampler {_string(sampler)}"]
+
+
 def _action(action: Action) -> str:
-    props = [f":parameters ({typed_list(action.parameters)})"]
-    if action.precondition != And(()):
-        props.append(f":precondition {_block(action.precondition, 4)}")
-    if action.effect != And(()):
-        props.append(f":effect {_block(action.effect, 4)}")
+    props = [f":parameters ({typed_list(action.parameters)})",
+             *_formula_props((":precondition", action.precondition), (":effect", action.effect))]
     return _properties(f":action {action.name}", props)
 
 
 def _stream(stream: Stream) -> str:
-    props = [f":inputs ({typed_list(stream.inputs)})"]
-    if stream.domain != And(()):
-        props.append(f":domain {_block(stream.domain, 4)}")
-    if stream.outputs:
-        props.append(f":outputs ({typed_list(stream.outputs)})")
-    if stream.certified != And(()):
-        props.append(f":certified {_block(stream.certified, 4)}")
-    if stream.sampler is not None:
-        props.append(f":sampler {_string(stream.sampler)}")
+    outputs = [f":outputs ({typed_list(stream.outputs)})"] if stream.outputs else []
+    props = [f":inputs ({typed_list(stream.inputs)})", *_formula_props((":domain", stream.domain)),
+             *outputs, *_formula_props((":certified", stream.certified)), *_sampler_prop(stream.sampler)]
     return _properties(f":stream {stream.name}", props)
 
 
 def _mechanism(mechanism: Mechanism) -> str:
-    props = [f":parameters ({typed_list(mechanism.parameters)})"]
-    if mechanism.precondition != And(()):
-        props.append(f":precondition {_block(mechanism.precondition, 4)}")
-    if mechanism.certified != And(()):
-        props.append(f":certified {_block(mechanism.certified, 4)}")
     steps = "".join(
         f"\n      ({_join(c.name, ' '.join(term(a) for a in c.args))})" for c in mechanism.actions)
-    props.append(f":actions ({steps})")
-    if mechanism.sampler is not None:
-        props.append(f":sampler {_string(mechanism.sampler)}")
+    props = [f":parameters ({typed_list(mechanism.parameters)})",
+             *_formula_props((":precondition", mechanism.precondition), (":certified", mechanism.certified)),
+             f":actions ({steps})", *_sampler_prop(mechanism.sampler)]
     return _properties(f":mechanism {mechanism.name}", props)
 
 
