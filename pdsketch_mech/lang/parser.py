@@ -6,9 +6,13 @@ escapes this module.
 from __future__ import annotations
 
 import functools
+import hashlib
+import os
 import re
+import tempfile
 from typing import Iterable, List, Optional, Tuple, Union
 
+import lark
 from lark import Lark, Token, Transformer, v_args
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
@@ -32,12 +36,36 @@ _TERMINAL_WORDS = {
 }
 
 
+_GRAMMAR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "grammar.lark")
+_OPTIONS = dict(parser="lalr", lexer="contextual", propagate_positions=True, maybe_placeholders=False)
+
+
 @functools.lru_cache(maxsize=1)
 def _lark() -> Lark:
-    return Lark.open(
-        "grammar.lark", rel_to=__file__, parser="lalr", lexer="contextual",
-        propagate_positions=True, maybe_placeholders=False,
-    )
+    """The parser, built once per process and cached on disk (building the LALR tables
+    costs ~0.2 s; loading them ~10 ms). The cache file is keyed by grammar and Lark version
+    and written atomically, so concurrent processes never read a half-written file."""
+    with open(_GRAMMAR, encoding="utf-8") as handle:
+        grammar = handle.read()
+    key = hashlib.sha256(f"{grammar}{lark.__version__}{sorted(_OPTIONS.items())}".encode()).hexdigest()[:16]
+    cache_dir = os.environ.get("PDSKETCH_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "pdsketch_mech")
+    path = os.path.join(cache_dir, f"grammar-{key}.lark")
+    try:
+        with open(path, "rb") as handle:
+            return Lark.load(handle)
+    except Exception:  # missing, stale or unreadable cache: rebuild below
+        pass
+    parser = Lark(grammar, **_OPTIONS)
+    try:
+        os.makedirs(cache_dir, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=cache_dir, suffix=".tmp")
+        with os.fdopen(fd, "wb") as handle:
+            parser.save(handle)
+        os.replace(tmp, path)
+    except OSError:  # a read-only home is fine: we just rebuild next time
+        pass
+    return parser
 
 
 def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:
