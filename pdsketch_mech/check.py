@@ -10,7 +10,7 @@ import argparse
 import sys
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error
+from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error, run
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, declared_domain_name, load_domain, load_problem
 
@@ -65,4 +65,4 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run(main))

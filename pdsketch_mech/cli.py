@@ -1,7 +1,9 @@
 """Helpers shared by the command-line entry points (`python -m pdsketch_mech.X`)."""
 from __future__ import annotations
 
+import os
 import sys
+from typing import Callable
 
 from .lang.errors import PddlError
 
@@ -18,3 +20,16 @@ def print_error(error: PddlError) -> None:
         except (OSError, UnicodeDecodeError):
             source = None
     print(error.render(source), file=sys.stderr)
+
+
+def run(main: Callable[[], int]) -> int:
+    """Run a command's `main`, turning a closed pipe (`| head`) or Ctrl-C into a quiet exit."""
+    try:
+        return main()
+    except BrokenPipeError:
+        # Python would complain again when flushing stdout at exit; point it at /dev/null.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130

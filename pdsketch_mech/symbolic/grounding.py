@@ -57,8 +57,11 @@ def objects_by_type(domain: Domain, problem: Problem, types: TypeTable) -> Dict[
     return {t: [name for name, obj_type in declared if types.is_subtype(obj_type, t)] for t in types.parents}
 
 
-def ground(domain: Domain, problem: Problem, types: TypeTable) -> StripsTask:
-    """Ground a type-checked domain and problem into a STRIPS task."""
+def ground(domain: Domain, problem: Problem, types: TypeTable, prune_irrelevant: bool = True) -> StripsTask:
+    """Ground a type-checked domain and problem into a STRIPS task.
+
+    `prune_irrelevant` drops operators that cannot help reach the goal symbolically; the
+    bilevel planner keeps them, since effect-free moves and pushes change poses."""
     objects = objects_by_type(domain, problem, types)
     members = {t: set(objs) for t, objs in objects.items()}
     fluent = {lit.atom.predicate for a in domain.actions for part in flatten_effect(a.effect, objects)
@@ -96,7 +99,31 @@ def ground(domain: Domain, problem: Problem, types: TypeTable) -> StripsTask:
     task = StripsTask(facts, operators, init=0, goal=0, static_facts=static, fact_ids=fact_ids)
     task.init = task.mask([f for f in init if f[0] in fluent])
     _set_goal(task, problem, objects, static, fluent)
+    if prune_irrelevant:
+        task.operators = relevant_operators(task)
     return task
+
+
+def relevant_operators(task: StripsTask) -> List[Operator]:
+    """Backward relevance: keep operators that can make a goal-relevant fact true, or false
+    where a relevant operator needs it false; their conditions become relevant in turn."""
+    relevant, relevant_false = task.goal, task.goal_neg
+    keep = [False] * len(task.operators)
+    changed = True
+    while changed:
+        changed = False
+        for i, op in enumerate(task.operators):
+            if keep[i]:
+                continue
+            effects = [(op.add, op.delete)] + [(c.add, c.delete) for c in op.conditional]
+            if any(add & relevant or delete & relevant_false for add, delete in effects):
+                keep[i] = changed = True
+                relevant |= op.pre | op.neg | op.delete
+                relevant_false |= op.neg
+                for c in op.conditional:
+                    relevant |= c.pre | c.neg
+                    relevant_false |= c.neg
+    return [op for i, op in enumerate(task.operators) if keep[i]]
 
 
 def _make_rule(action: str, params, conj: Conjunction, effects, fluent) -> _Rule:

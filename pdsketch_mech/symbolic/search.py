@@ -100,8 +100,7 @@ def greedy_search(task: StripsTask, heuristic: Optional[FFHeuristic] = None,
         best = h
         expand(task.init, h, helpful)
         while queues[0] or queues[1]:
-            if result.evaluations % 128 == 0:
-                _check_time(deadline)
+            _check_time(deadline)
             which = 1 if queues[1] and (not queues[0] or priority[1] <= priority[0]) else 0
             priority[which] += 1
             _, _, parent, op = heapq.heappop(queues[which])
@@ -140,6 +139,8 @@ def weighted_astar(task: StripsTask, heuristic: Optional[FFHeuristic] = None, we
     try:
         h_cache[task.init] = heuristic(task.init)[0]
         result.evaluations += 1
+        if h_cache[task.init] == INFINITY:
+            return _finish(result, start)
         open_list = [(weight * h_cache[task.init], h_cache[task.init], 0, task.init, 0)]
         while open_list:
             _, _, _, state, cost = heapq.heappop(open_list)
@@ -148,8 +149,7 @@ def weighted_astar(task: StripsTask, heuristic: Optional[FFHeuristic] = None, we
             if task.is_goal(state):
                 result.status, result.plan = "solved", _extract(parents, state)
                 return _finish(result, start)
-            if result.expansions % 128 == 0:
-                _check_time(deadline)
+            _check_time(deadline)
             result.expansions += 1
             for op in successors(state):
                 child = task.successor(state, task.operators[op])

@@ -1,0 +1,120 @@
+"""`python -m pdsketch_mech.plan DOMAIN PROBLEM`: find a plan.
+
+Prints the plan on stdout, one `(action arg ...)` a line, and a one-line summary on stderr.
+Exit 0 solved, 1 no plan within the limits, 2 bad input (one `FILE:LINE:COL: error:` line).
+Classical PDDL is planned directly. A domain with streams needs the bilevel planner; until
+it lands, `--skeletons N` prints the first N symbolic skeletons with placeholder values.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from typing import List, Optional, Sequence
+
+from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, run
+from .lang.errors import PddlError
+from .lang.loader import LoadedDomain, load_domain, load_problem
+from .lang.nodes import Problem
+from .symbolic.grounding import ground
+from .symbolic.optimistic import optimistic_problem
+from .symbolic.skeletons import iter_skeletons
+from .symbolic.solve import SEARCHES, ClassicalResult, solve
+from .symbolic.validate import validate_plan
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.plan", description=__doc__.split("\n\n")[0])
+    parser.add_argument("domain", metavar="DOMAIN", help="domain file (fragments load what they :extends)")
+    parser.add_argument("problem", metavar="PROBLEM", help="problem file")
+    parser.add_argument("--mechanisms", nargs="+", default=[], metavar="PATH",
+                        help="domain fragments (e.g. learned mechanisms) merged into DOMAIN")
+    parser.add_argument("--timeout", type=float, default=600.0, metavar="S", help="seconds (default 600)")
+    parser.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
+    parser.add_argument("--search", choices=SEARCHES, default="gbfs",
+                        help="gbfs: lazy greedy best-first with preferred operators (default); "
+                             "wastar: weighted A*")
+    parser.add_argument("--weight", type=float, default=2.0, metavar="W", help="weight for wastar (default 2)")
+    parser.add_argument("--json", metavar="FILE", help="write the result as JSON")
+    parser.add_argument("--validate", action="store_true", help="re-check the plan against the domain")
+    parser.add_argument("--skeletons", type=int, metavar="N",
+                        help="print the first N symbolic skeletons (placeholders for stream outputs)")
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = _parser().parse_args(argv)
+    if args.timeout <= 0:
+        print("error: --timeout must be positive", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    try:
+        loaded = load_domain([args.domain, *args.mechanisms])
+        loaded, problem = load_problem(args.problem, [loaded])
+    except PddlError as error:
+        print_error(error)
+        return EXIT_BAD_INPUT
+    if args.skeletons is not None:
+        return _print_skeletons(loaded, problem, args.skeletons, args.timeout)
+    if loaded.domain.streams:
+        print(f"{args.domain}: error: domain '{loaded.domain.name}' has streams; planning with continuous "
+              "parameters needs the bilevel planner, which is not available yet (try --skeletons N)",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
+    result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, args.timeout)
+    for name, plan_args in result.plan:
+        print(f"({' '.join((name,) + plan_args)})")
+    print(_summary(result), file=sys.stderr)
+    status = EXIT_OK if result.status == "solved" else EXIT_UNSOLVED
+    if args.validate and result.status == "solved":
+        check = validate_plan(loaded.domain, problem, result.plan)
+        print(f"validate: {check.message}", file=sys.stderr)
+        status = status if check.ok else EXIT_UNSOLVED
+    if args.json:
+        try:
+            _write_json(args.json, result, args.seed)
+        except OSError as exc:
+            print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+    return status
+
+
+def _summary(result: ClassicalResult) -> str:
+    s = result.stats
+    what = (f"solved: {len(result.plan)} steps" if result.status == "solved"
+            else "unsolved: " + ("no plan exists" if result.status == "unsolvable" else "timed out"))
+    return (f"{what} in {result.time_s:.3f} s (ground {s['ground_s']:.3f} s, search {s['search_s']:.3f} s); "
+            f"{s['operators']} operators, {s['facts']} facts, {s['expansions']} expansions, "
+            f"{s['evaluations']} evaluations")
+
+
+def _write_json(path: str, result: ClassicalResult, seed: int) -> None:
+    document = {
+        "status": "solved" if result.status == "solved" else "unsolved",
+        "reason": result.status,
+        "time_s": round(result.time_s, 6),
+        "seed": seed,
+        "plan": [{"name": name, "args": list(args), "params": {}} for name, args in result.plan],
+        "stats": {"skeletons": 1, "samples": {}, **result.stats},
+    }
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(document, handle, indent=2)
+        handle.write("\n")
+
+
+def _print_skeletons(loaded: LoadedDomain, problem: Problem, count: int, timeout: float) -> int:
+    deadline = time.perf_counter() + timeout
+    optimistic, _ = optimistic_problem(loaded.domain, problem, loaded.types)
+    task = ground(loaded.domain, optimistic, loaded.types, prune_irrelevant=False)
+    found: List[str] = []
+    for plan in iter_skeletons(task, deadline=deadline):
+        found.append(" ".join(task.operators[o].label for o in plan))
+        print(f"{len(found)}: {found[-1]}")
+        if len(found) >= count:
+            break
+    print(f"{len(found)} skeleton{'s' * (len(found) != 1)}", file=sys.stderr)
+    return EXIT_OK if found else EXIT_UNSOLVED
+
+
+if __name__ == "__main__":
+    sys.exit(run(main))

@@ -1,0 +1,103 @@
+"""Optimistic stream instantiation (PDDLStream's idea) for the symbolic search.
+
+Before continuous values exist, each stream whose inputs are available is assumed to
+succeed once: it yields fresh placeholder objects (`#grasp1`, `#traj3`, ...) for its
+outputs and certifies its facts about them. A placeholder's level is one more than the
+highest level among its stream's inputs (objects are level 0); `max_level` bounds how
+deep streams may chain. The bilevel planner later replaces placeholders by sampled values.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from itertools import product
+from typing import Dict, List, Mapping, Set, Tuple
+
+from ..lang.nodes import Atom, Const, Domain, Problem, TypedName
+from ..lang.typecheck import TypeTable
+from .grounding import objects_by_type
+from .normalize import dnf
+
+Fact = Tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Placeholder:
+    name: str
+    type: str
+    stream: str
+    inputs: Tuple[str, ...]
+    level: int
+
+
+def is_placeholder(name: str) -> bool:
+    return name.startswith("#")
+
+
+def optimistic_problem(domain: Domain, problem: Problem, types: TypeTable,
+                       max_level: int = 2) -> Tuple[Problem, Dict[str, Placeholder]]:
+    """`problem` plus placeholder objects and the facts their streams would certify.
+
+    Stream `:domain` conditions are evaluated on the initial facts and on facts certified
+    by other streams: they should name static (stream-certified or never-changed) facts.
+    """
+    objects = objects_by_type(domain, problem, types)
+    facts: Set[Fact] = {(a.predicate,) + tuple(t.name for t in a.args) for a in problem.init}
+    placeholders: Dict[str, Placeholder] = {}
+    instantiated: Set[Tuple[str, Tuple[str, ...]]] = set()
+    counters: Dict[str, int] = {}
+    new_objects: List[TypedName] = []
+    new_facts: List[Fact] = []
+    changed = True
+    while changed:
+        changed = False
+        for stream in domain.streams:
+            candidates = [list(objects.get(p.type, ())) for p in stream.inputs]
+            for values in product(*candidates):
+                key = (stream.name, values)
+                if key in instantiated:
+                    continue
+                level = 1 + max((placeholders[v].level for v in values if v in placeholders), default=0)
+                binding = {p.name: v for p, v in zip(stream.inputs, values)}
+                if level > max_level or not _holds(stream.domain, binding, facts, objects):
+                    continue
+                instantiated.add(key)
+                changed = True
+                for out in stream.outputs:
+                    counters[out.type] = counters.get(out.type, 0) + 1
+                    name = f"#{out.type}{counters[out.type]}"
+                    placeholders[name] = Placeholder(name, out.type, stream.name, values, level)
+                    binding[out.name] = name
+                    new_objects.append(TypedName(name, out.type))
+                    for t in types.ancestors(out.type):
+                        objects.setdefault(t, []).append(name)
+                for conj in dnf(stream.certified, objects):
+                    for lit in conj:
+                        if lit.positive and isinstance(lit.atom, Atom):
+                            fact = _ground(lit.atom, binding)
+                            if fact not in facts:
+                                facts.add(fact)
+                                new_facts.append(fact)
+                    break  # certified facts are a conjunction: its one disjunct
+    init = problem.init + tuple(Atom(f[0], tuple(Const(a) for a in f[1:])) for f in new_facts)
+    return replace(problem, objects=problem.objects + tuple(new_objects), init=init), placeholders
+
+
+def _ground(atom: Atom, binding: Mapping[str, str]) -> Fact:
+    return (atom.predicate,) + tuple(binding.get(t.name, t.name) for t in atom.args)
+
+
+def _holds(formula, binding: Mapping[str, str], facts: Set[Fact], objects) -> bool:
+    """Whether a (quantifier-expanded) condition holds on `facts` under `binding`."""
+    for conj in dnf(formula, objects):
+        ok = True
+        for lit in conj:
+            if isinstance(lit.atom, Atom):
+                ok = (_ground(lit.atom, binding) in facts) == lit.positive
+            else:
+                left, right = (binding.get(t.name, t.name) for t in (lit.atom.left, lit.atom.right))
+                ok = (left == right) == lit.positive
+            if not ok:
+                break
+        if ok:
+            return True
+    return False

@@ -1,0 +1,87 @@
+"""`python -m pdsketch_mech.plan` on classical PDDL: output format, exit codes, JSON, limits."""
+import json
+import os
+import subprocess
+import sys
+import time
+
+from pdsketch_mech import plan
+
+from conftest import DATA, ROOT
+from test_symbolic import CORRIDOR, corridor_problem
+
+LOGISTICS = os.path.join(DATA, "ipc", "logistics00")
+
+
+def run_plan(capsys, *args):
+    status = plan.main(list(args))
+    captured = capsys.readouterr()
+    return status, captured.out.splitlines(), captured.err.strip().splitlines()
+
+
+def test_solved_plan_is_printed_one_action_a_line(write_files, capsys):
+    domain, problem = write_files(**{"d.pddl": CORRIDOR, "p.pddl": corridor_problem(goal="(carrying k)")})
+    status, out, err = run_plan(capsys, domain, problem, "--validate")
+    assert status == 0
+    assert out == ["(move r0 r1)", "(pick k r1)"]
+    assert err[0].startswith("solved: 2 steps in ")
+    assert err[1] == "validate: plan valid: 2 steps reach the goal"
+
+
+def test_unsolvable_exits_1(write_files, capsys):
+    cut = corridor_problem(goal="(at r3)").replace("(adj r2 r3) (adj r3 r2)", "")
+    domain, problem = write_files(**{"d.pddl": CORRIDOR, "p.pddl": cut})
+    status, out, err = run_plan(capsys, domain, problem)
+    assert (status, out) == (1, [])
+    assert err[0].startswith("unsolved: no plan exists in ")
+
+
+def test_bad_input_exits_2_with_one_line(write_files, capsys):
+    text = corridor_problem(goal="(carrying k r1)")
+    domain, problem = write_files(**{"d.pddl": CORRIDOR, "p.pddl": text})
+    status, out, err = run_plan(capsys, domain, problem)
+    assert (status, out) == (2, [])
+    column = text.index("(carrying k r1)") + 1
+    assert err == [f"{problem}:1:{column}: error: predicate 'carrying' takes 1 argument, got 2"]
+
+
+def test_json_output(tmp_path, capsys):
+    out_file = tmp_path / "plan.json"
+    status, out, _ = run_plan(capsys, os.path.join(LOGISTICS, "domain.pddl"),
+                              os.path.join(LOGISTICS, "problem01.pddl"), "--json", str(out_file), "--seed", "7")
+    document = json.loads(out_file.read_text())
+    assert status == 0 and document["status"] == "solved" and document["seed"] == 7
+    assert [f"({' '.join([s['name']] + s['args'])})" for s in document["plan"]] == out
+    assert all(step["params"] == {} for step in document["plan"])
+    assert document["stats"]["skeletons"] == 1 and document["stats"]["expansions"] > 0
+    assert isinstance(document["time_s"], float)
+
+
+def test_same_seed_same_plan(capsys):
+    args = [os.path.join(DATA, "ipc", "depot", "domain.pddl"), os.path.join(DATA, "ipc", "depot", "task03.pddl")]
+    assert run_plan(capsys, *args, "--seed", "3")[1] == run_plan(capsys, *args, "--seed", "3")[1]
+
+
+def test_timeout_is_honoured(capsys):
+    start = time.perf_counter()
+    status, out, err = run_plan(capsys, os.path.join(LOGISTICS, "domain.pddl"),
+                                os.path.join(LOGISTICS, "problem03.pddl"), "--search", "wastar",
+                                "--weight", "1", "--timeout", "0.5")
+    assert (status, out) == (1, [])
+    assert err[0].startswith("unsolved: timed out")
+    assert time.perf_counter() - start < 5  # generous: the limit is 0.5 s, checked every expansion
+
+
+def test_domain_with_streams_points_to_skeletons(capsys):
+    basis, problem = os.path.join(ROOT, "domains", "basis.pddl"), os.path.join(ROOT, "problems", "hook-use.pddl")
+    status, _, err = run_plan(capsys, basis, problem)
+    assert status == 2 and len(err) == 1 and "try --skeletons N" in err[0]
+    status, out, _ = run_plan(capsys, basis, problem, "--skeletons", "2")
+    assert status == 0 and out[0] == "1: (grasp box table #grasp3 #traj4)" and len(out) == 2
+
+
+def test_command_line_closes_quietly_on_a_closed_pipe():
+    command = (f"{sys.executable} -m pdsketch_mech.plan {LOGISTICS}/domain.pddl {LOGISTICS}/problem02.pddl"
+               " | head -1")
+    result = subprocess.run(command, shell=True, capture_output=True, text=True, cwd=ROOT)
+    assert result.stdout.count("\n") == 1 and "Traceback" not in result.stderr
