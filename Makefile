@@ -5,13 +5,19 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test setup clean
+.PHONY: demo test bench-ipc setup clean
 
 demo: $(STAMP)
 	$(BIN)/python -m pdsketch_mech.check domains/basis.pddl domains/mechanisms/*.pddl problems/*.pddl
+	$(BIN)/python -m pdsketch_mech.plan tests/data/ipc/logistics00/domain.pddl \
+	    tests/data/ipc/logistics00/problem02.pddl --validate
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+bench-ipc: $(STAMP)
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[bench]'
+	$(BIN)/python -m pdsketch_mech.bench ipc tests/data/ipc --peer pyperplan --timeout 120
 
 setup: $(STAMP)
 

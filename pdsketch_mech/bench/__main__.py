@@ -1,0 +1,96 @@
+"""`python -m pdsketch_mech.bench SUBCOMMAND ...`: benchmark entry point.
+
+Exit codes: 0 the benchmark ran, 1 one of our plans failed validation (a correctness bug),
+2 bad input (one `error: ...` line on stderr).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import os
+import sys
+from dataclasses import asdict
+from typing import List, Optional, Sequence
+
+from ..cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED
+from ..symbolic.solve import SEARCHES
+from . import ipc
+
+INSTALL_HINT = "pyperplan is not installed; it is a benchmark-only dependency: pip install -e '.[bench]'"
+
+
+def render_text(header: List[str], cells: List[List[str]], lines: List[str]) -> str:
+    """Fixed-width table (first column left-aligned, the rest right-aligned), then `lines`."""
+    widths = [max(len(row[i]) for row in [header] + cells) for i in range(len(header))]
+
+    def fmt(row: List[str]) -> str:
+        return "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(row, widths)))
+
+    rule = "-" * len(fmt(header))
+    return "\n".join([fmt(header), rule] + [fmt(row) for row in cells] + [rule] + lines) + "\n"
+
+
+def render_markdown(header: List[str], cells: List[List[str]], lines: List[str]) -> str:
+    """The same table and lines as markdown (a pipe table and a bullet list)."""
+    rows = [header, [":---"] + ["---:"] * (len(header) - 1)] + cells
+    return "\n".join("| " + " | ".join(row) + " |" for row in rows) + "\n\n" + "".join(f"- {x}\n" for x in lines)
+
+
+def run_ipc_command(args: argparse.Namespace) -> int:
+    """`ipc`: check the input, run, print the table and summary, write the files asked for."""
+    if args.timeout <= 0:
+        raise ipc.BenchError(f"--timeout must be positive, got {args.timeout:g}")
+    if args.peer and importlib.util.find_spec(args.peer) is None:
+        raise ipc.BenchError(INSTALL_HINT)
+    if args.plot and not args.peer:
+        raise ipc.BenchError("--plot compares with a peer planner: add --peer pyperplan")
+    for out in (args.json, args.markdown, args.plot):
+        if out and not os.path.isdir(os.path.dirname(os.path.abspath(out))):
+            raise ipc.BenchError(f"{out}: its folder does not exist")
+    trials = ipc.run_ipc(args.dir, args.timeout, args.peer, args.search)
+    header, cells = ipc.table(trials, args.peer)
+    summary = ipc.summarize(trials, args.peer)
+    lines = ipc.summary_lines(summary)
+    print(render_text(header, cells, lines), end="")
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as handle:
+            json.dump({"dir": args.dir, "timeout_s": args.timeout, "search": args.search, "peer": args.peer,
+                       "trials": [asdict(t) for t in trials], "summary": summary}, handle, indent=2)
+    if args.markdown:
+        with open(args.markdown, "w", encoding="utf-8") as handle:
+            handle.write(render_markdown(header, cells, lines))
+    if args.plot:
+        ipc.plot(trials, args.peer, args.plot)
+    return EXIT_UNSOLVED if summary["ours_invalid"] else EXIT_OK
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser, one sub-parser per benchmark."""
+    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.bench", description="Planner benchmarks.")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    run = commands.add_parser("ipc", help="time the classical planner on IPC problems (DIR/*/domain.pddl)")
+    run.add_argument("dir", metavar="DIR", help="folder with one sub-folder per domain: domain.pddl + problems")
+    run.add_argument("--timeout", type=float, default=60.0, metavar="S",
+                     help="seconds per trial (parse + ground + search; default 60)")
+    run.add_argument("--peer", choices=ipc.PEERS, help="also run this planner on every problem")
+    run.add_argument("--search", choices=SEARCHES, default="gbfs",
+                     help="our search (default gbfs); the peer uses its nearest: gbf or wastar, with h_FF")
+    run.add_argument("--json", metavar="FILE", help="write every trial and the summary as JSON")
+    run.add_argument("--markdown", metavar="FILE", help="write the table and summary as markdown")
+    run.add_argument("--plot", metavar="FILE.png", help="log-log scatter of peer time vs our time")
+    run.set_defaults(func=run_ipc_command)
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except ipc.BenchError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())
