@@ -89,8 +89,7 @@ def test_hook_problem_scene():
     assert set(scene) == {"table", "hook", "box"}
     assert scene["table"].fixed and not scene["box"].fixed
     assert scene["box"].mass == 0.2 and scene["box"].support == "table"
-    x, y, z, w = scene["hook"].orientation  # 90 degrees about z
-    assert (x, y) == (0, 0) and math.isclose(z, math.sqrt(0.5)) and math.isclose(w, math.sqrt(0.5))
+    assert scene["hook"].orientation == (0.0, 0.0, 0.0, 1.0) and scene["hook"].asset == "l-stick/0"
 
 
 def test_scene_orientation_forms_agree():

@@ -65,6 +65,20 @@ def run_ipc_command(args: argparse.Namespace) -> int:
     return EXIT_UNSOLVED if summary["ours_invalid"] else EXIT_OK
 
 
+def run_world_command(args: argparse.Namespace) -> int:
+    """`world`: measure the simulator primitives and print them against their targets."""
+    from . import world  # imports PyBullet and OMPL: only when asked for
+
+    if args.json and not os.path.isdir(os.path.dirname(os.path.abspath(args.json))):
+        raise ipc.BenchError(f"{args.json}: its folder does not exist")
+    figures = world.measure_world(seed=args.seed)
+    print("\n".join(world.report(figures)))
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as handle:
+            json.dump({"seed": args.seed, **figures}, handle, indent=2)
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser, one sub-parser per benchmark."""
     parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.bench", description="Planner benchmarks.")
@@ -80,6 +94,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--markdown", metavar="FILE", help="write the table and summary as markdown")
     run.add_argument("--plot", metavar="FILE.png", help="log-log scatter of peer time vs our time")
     run.set_defaults(func=run_ipc_command)
+    world = commands.add_parser("world", help="collision checks, IK, motion planning, snapshots on a tabletop")
+    world.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
+    world.add_argument("--json", metavar="FILE", help="write the figures as JSON")
+    world.set_defaults(func=run_world_command)
     return parser
 
 

@@ -1,0 +1,1 @@
+"""PyBullet world: assets, robot, collision checking, motion planning."""

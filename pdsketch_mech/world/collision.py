@@ -1,0 +1,79 @@
+"""Collision checking of arm configurations: arm vs world, self-collision, held object vs world.
+
+A check teleports the arm (and the held object) in the world itself, so it changes the
+world state: callers that must not disturb the simulation wrap checks in `world.saved()`.
+PyBullet also reports near-contacts inside its margin; only penetrations deeper than
+`PENETRATION` count (DESIGN.md).
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Collection, Iterable, List, Optional, Sequence, Tuple
+
+import pybullet as p
+
+from .robot import ARM_JOINTS
+
+if TYPE_CHECKING:
+    from .world import World
+
+PENETRATION = 5e-4  # metres
+
+
+def disable_touching_self_pairs(world: "World") -> List[Tuple[int, int]]:
+    """Turn off self-collision for robot link pairs already touching at the current (home)
+    configuration: the hand and fingers overlap by design."""
+    p.performCollisionDetection(physicsClientId=world.client)
+    pairs = sorted({tuple(sorted((c[3], c[4])))
+                    for c in p.getContactPoints(world.robot, world.robot, physicsClientId=world.client)
+                    if c[8] < 0})
+    for a, b in pairs:
+        p.setCollisionFilterPair(world.robot, world.robot, a, b, 0, physicsClientId=world.client)
+    return pairs
+
+
+class CollisionChecker:
+    """`collides(q)`: would the arm at `q` (holding what the world holds) penetrate anything
+    other than the bodies in `ignore`?"""
+
+    def __init__(self, world: "World", ignore: Iterable[str] = (), check_held: bool = True):
+        self.world = world
+        self.ignore_ids = {world.bodies[name].id for name in ignore}
+        self.check_held = check_held
+        self.checks = 0
+
+    def collides(self, q: Sequence[float]) -> bool:
+        world, client = self.world, self.world.client
+        self.checks += 1
+        # One multi-joint call: per-joint resets cost ~40% of the check's time.
+        p.resetJointStatesMultiDof(world.robot, ARM_JOINTS, [[float(v)] for v in q], physicsClientId=client)
+        held_id: Optional[int] = None
+        if world.attachment is not None:
+            held_id = world.bodies[world.attachment.name].id
+            world.set_pose(world.attachment.name, world._held_pose())
+        p.performCollisionDetection(physicsClientId=client)
+        for contact in p.getContactPoints(bodyA=world.robot, physicsClientId=client):
+            other = contact[2]
+            # The base link (-1) is bolted down: whatever it touches, no motion can change that.
+            if contact[8] < -PENETRATION and contact[3] != -1 and other != held_id and other not in self.ignore_ids:
+                return True  # robot-robot pairs that may touch were filtered out at load time
+        if held_id is not None and self.check_held:
+            for contact in p.getContactPoints(bodyA=held_id, physicsClientId=client):
+                other = contact[2]
+                if contact[8] < -PENETRATION and other not in self.ignore_ids and other != world.robot:
+                    return True
+        return False
+
+    def colliding_bodies(self, q: Sequence[float]) -> Collection[str]:
+        """Names of what the arm (or held object) penetrates at `q`, for messages and tests."""
+        world = self.world
+        self.collides(q)
+        names = {body.id: name for name, body in world.bodies.items()}
+        names[world.robot] = "robot"
+        hit = set()
+        for body_id in [world.robot] + ([world.bodies[world.attachment.name].id] if world.attachment else []):
+            for contact in p.getContactPoints(bodyA=body_id, physicsClientId=world.client):
+                base = body_id == world.robot and contact[3] == -1
+                if contact[8] < -PENETRATION and not base and contact[2] not in self.ignore_ids:
+                    hit.add(names.get(contact[2], str(contact[2])))
+        hit.discard(world.attachment.name if world.attachment else None)
+        return hit

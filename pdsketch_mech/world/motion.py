@@ -1,0 +1,133 @@
+"""Arm motion planning: OMPL RRTConnect in joint space, and straight Cartesian lines via IK.
+
+OMPL 2.0.1 (nanobind) traps, from DESIGN.md: index states only with explicit `range(n)`,
+test success with `haveExactSolutionPath()`, check start and goal validity first, and keep
+OMPL objects inside functions (module-level ones print "leaked" at exit). OMPL's random
+seed is process-wide: `seed_motion_planning(seed)` sets it before the first plan.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, List, Optional, Sequence
+
+import numpy as np
+from ompl import base as ob
+from ompl import geometric as og
+from ompl import util as ou
+
+from .collision import CollisionChecker
+from .robot import ARM_JOINTS
+
+if TYPE_CHECKING:
+    from .world import World
+
+ou.setLogLevel(ou.LOG_ERROR)
+RESOLUTION = 0.05   # radians between consecutive waypoints of a returned path
+CHECK_STEP = 0.01   # radians between collision checks along an edge (OMPL's setting is relative
+                    # to the space's extent, ~13 rad here: 0.005 of it missed thin obstacles)
+_seeded = False
+
+
+def seed_motion_planning(seed: int) -> None:
+    """Seed OMPL's process-wide generator; only the first call in a process takes effect."""
+    global _seeded
+    if not _seeded:
+        ou.RNG.setSeed(int(seed) % (2 ** 31 - 1) + 1)
+        _seeded = True
+
+
+@dataclass
+class MotionResult:
+    path: Optional[np.ndarray]   # (n, 7) joint waypoints including start and goal, or None
+    reason: str = ""             # why there is no path
+    checks: int = 0              # collision checks used
+
+
+def plan_motion(world: "World", start: Sequence[float], goal: Sequence[float], ignore: Sequence[str] = (),
+                timeout: float = 1.0, seed: int = 0) -> MotionResult:
+    """A collision-free joint path from `start` to `goal` (the arm carries what it holds;
+    bodies in `ignore` may be touched). The world is restored afterwards."""
+    seed_motion_planning(seed)
+    checker = CollisionChecker(world, ignore)
+    limits = world.kinematics.limits
+    with world.saved():
+        for label, q in (("start", start), ("goal", goal)):
+            if not limits.contains(q):
+                return MotionResult(None, f"{label} is outside the joint limits")
+            if checker.collides(q):
+                hit = ", ".join(sorted(checker.colliding_bodies(q)))
+                return MotionResult(None, f"{label} configuration is in collision with {hit}", checker.checks)
+        if _segment_free(checker, start, goal):
+            return MotionResult(_interpolate([start, goal]), checks=checker.checks)
+        path = _rrt_connect(checker, limits.lower, limits.upper, start, goal, timeout)
+    if path is None:
+        return MotionResult(None, f"no path found in {timeout:.2f} s", checker.checks)
+    return MotionResult(_interpolate(path), checks=checker.checks)
+
+
+def _segment_free(checker: CollisionChecker, a: Sequence[float], b: Sequence[float], step: float = CHECK_STEP) -> bool:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    n = max(2, int(np.ceil(np.max(np.abs(b - a)) / step)) + 1)
+    return not any(checker.collides(a + (b - a) * t) for t in np.linspace(0.0, 1.0, n))
+
+
+def _rrt_connect(checker: CollisionChecker, lower, upper, start, goal, timeout: float) -> Optional[List[np.ndarray]]:
+    n = len(ARM_JOINTS)
+    space = ob.RealVectorStateSpace(n)
+    bounds = ob.RealVectorBounds(n)
+    for i in range(n):
+        bounds.setLow(i, float(lower[i]))
+        bounds.setHigh(i, float(upper[i]))
+    space.setBounds(bounds)
+    setup = og.SimpleSetup(space)
+    setup.setStateValidityChecker(lambda state: not checker.collides([state[i] for i in range(n)]))
+    info = setup.getSpaceInformation()
+    info.setStateValidityCheckingResolution(CHECK_STEP / space.getMaximumExtent())
+    start_state, goal_state = space.allocState(), space.allocState()
+    for i in range(n):
+        start_state[i] = float(start[i])
+        goal_state[i] = float(goal[i])
+    setup.setStartAndGoalStates(start_state, goal_state)
+    setup.setPlanner(og.RRTConnect(info))
+    setup.solve(timeout)
+    if not setup.haveExactSolutionPath():
+        return None
+    setup.simplifySolution()
+    solution = setup.getSolutionPath()
+    return [np.array([solution.getState(k)[i] for i in range(n)]) for k in range(solution.getStateCount())]
+
+
+def _interpolate(waypoints: Sequence[Sequence[float]], resolution: float = RESOLUTION) -> np.ndarray:
+    out = [np.asarray(waypoints[0], dtype=float)]
+    for a, b in zip(waypoints, waypoints[1:]):
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        n = max(1, int(np.ceil(np.max(np.abs(b - a)) / resolution)))
+        out.extend(a + (b - a) * t for t in np.linspace(0.0, 1.0, n + 1)[1:])
+    return np.array(out)
+
+
+def path_is_free(world: "World", path: np.ndarray, ignore: Sequence[str] = (), step: float = CHECK_STEP) -> bool:
+    """Every configuration along the densely interpolated path is collision-free."""
+    checker = CollisionChecker(world, ignore)
+    with world.saved():
+        return all(_segment_free(checker, a, b, step) for a, b in zip(path, path[1:]))
+
+
+def cartesian_path(world: "World", start: Sequence[float], direction: Sequence[float], distance: float,
+                   rng: np.random.Generator, step: float = 0.01, max_joint_jump: float = 0.2) -> Optional[np.ndarray]:
+    """Joint waypoints moving the gripper frame in a straight line (fixed orientation) by
+    `distance` metres along `direction`, each solved by IK seeded with the previous one;
+    None if IK fails or the arm would jump (a wrist flip is not a straight line).
+    Collisions are the caller's to check: a push touches the pushed object by design."""
+    kin = world.kinematics
+    position, orientation = kin.fk(start)
+    direction = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    qs = [np.asarray(start, dtype=float)]
+    n = max(1, int(np.ceil(distance / step)))
+    for k in range(1, n + 1):
+        target = np.asarray(position) + direction * distance * k / n
+        q = kin.ik(target, orientation, rng, seed=qs[-1], restarts=1)
+        if q is None or np.max(np.abs(q - qs[-1])) > max_joint_jump:
+            return None
+        qs.append(q)
+    return np.array(qs)

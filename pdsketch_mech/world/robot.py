@@ -1,0 +1,107 @@
+"""The Franka Panda: joints, forward and inverse kinematics, and the gripper.
+
+IK runs in a private kinematics-only PyBullet client holding just the arm, so solving never
+disturbs the simulated world. Every IK answer is verified with forward kinematics and the
+joint limits (PyBullet's solver can return angles outside them).
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+import pybullet as p
+import pybullet_data
+from scipy.spatial.transform import Rotation
+
+PANDA_URDF = os.path.join(pybullet_data.getDataPath(), "franka_panda", "panda.urdf")
+ARM_JOINTS = tuple(range(7))
+FINGER_JOINTS = (9, 10)
+HAND_LINK = 8            # panda_hand: attachments are made to it
+TCP_LINK = 11            # panda_grasptarget: the point between the fingertips
+HOME = (0.0, -0.5, 0.0, -2.2, 0.0, 1.7, 0.785)
+MAX_OPENING = 0.08       # metres between the fingers, fully open
+
+Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]  # (xyz, quaternion xyzw)
+
+
+def load_panda(client: int, base: Pose = ((0, 0, 0), (0, 0, 0, 1)), self_collision: bool = True) -> int:
+    """Load the arm with self-collision between non-adjacent links (DESIGN.md: the
+    EXCLUDE_PARENT flag keeps it; EXCLUDE_ALL_PARENTS would disable it on a serial arm)."""
+    flags = p.URDF_USE_SELF_COLLISION | p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT if self_collision else 0
+    return p.loadURDF(PANDA_URDF, base[0], base[1], useFixedBase=True, flags=flags, physicsClientId=client)
+
+
+@dataclass(frozen=True)
+class JointLimits:
+    lower: np.ndarray
+    upper: np.ndarray
+
+    def contains(self, q: Sequence[float], tol: float = 1e-6) -> bool:
+        q = np.asarray(q)
+        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+
+    def sample(self, rng: np.random.Generator) -> np.ndarray:
+        return rng.uniform(self.lower, self.upper)
+
+
+def joint_limits(body: int, client: int) -> JointLimits:
+    info = [p.getJointInfo(body, j, physicsClientId=client) for j in ARM_JOINTS]
+    return JointLimits(np.array([i[8] for i in info]), np.array([i[9] for i in info]))
+
+
+class Kinematics:
+    """FK and IK for the gripper frame, in a client of its own."""
+
+    def __init__(self, base: Pose = ((0, 0, 0), (0, 0, 0, 1))):
+        self.client = p.connect(p.DIRECT)
+        self.body = load_panda(self.client, base, self_collision=False)
+        self.limits = joint_limits(self.body, self.client)
+        self._ranges = list(self.limits.upper - self.limits.lower)
+
+    def close(self) -> None:
+        if self.client >= 0:
+            p.disconnect(self.client)
+            self.client = -1
+
+    def _set(self, q: Sequence[float]) -> None:
+        for j, value in zip(ARM_JOINTS, q):
+            p.resetJointState(self.body, j, float(value), physicsClientId=self.client)
+
+    def fk(self, q: Sequence[float], link: int = TCP_LINK) -> Pose:
+        """World pose of `link` (default: the gripper frame) at joint angles `q`."""
+        self._set(q)
+        state = p.getLinkState(self.body, link, computeForwardKinematics=True, physicsClientId=self.client)
+        return tuple(state[4]), tuple(state[5])
+
+    def ik(self, position: Sequence[float], orientation: Sequence[float], rng: np.random.Generator,
+           seed: Optional[Sequence[float]] = None, restarts: int = 30, chain: int = 3,
+           pos_tol: float = 0.005, ang_tol: float = 0.05) -> Optional[np.ndarray]:
+        """Joint angles placing the gripper frame at the pose, or None.
+
+        Each attempt chains `chain` solver calls from a start (the seed, home, then random
+        configurations) and is accepted only if FK agrees within the tolerances (metres,
+        radians) and the angles are within the joint limits. Many short attempts beat a few
+        long ones (`bench world`: 30 x 3 reaches 99 % of side grasps, 12 x 4 only 92 %).
+        """
+        starts: List[Sequence[float]] = [s for s in (seed, HOME) if s is not None]
+        target = Rotation.from_quat(orientation)
+        for attempt in range(restarts):
+            start = starts[attempt] if attempt < len(starts) else self.limits.sample(rng)
+            self._set(start)
+            q = np.asarray(start, dtype=float)
+            for _ in range(chain):
+                solution = p.calculateInverseKinematics(
+                    self.body, TCP_LINK, list(position), list(orientation),
+                    lowerLimits=list(self.limits.lower), upperLimits=list(self.limits.upper),
+                    jointRanges=self._ranges, restPoses=list(q), maxNumIterations=100,
+                    residualThreshold=1e-5, physicsClientId=self.client)
+                q = np.clip(np.asarray(solution[:7]), self.limits.lower, self.limits.upper)
+                self._set(q)
+                pos, orn = self.fk(q)
+                pos_err = np.linalg.norm(np.subtract(pos, position))
+                ang_err = (Rotation.from_quat(orn) * target.inv()).magnitude()
+                if pos_err <= pos_tol and ang_err <= ang_tol:
+                    return q
+        return None

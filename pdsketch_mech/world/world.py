@@ -1,0 +1,247 @@
+"""`World`: one PyBullet client with the Panda and a problem's scene objects.
+
+Every call passes `physicsClientId`, so worlds in one process (and across processes) never
+share simulator state. Poses are those of the URDF link frame, whatever the inertial
+frame: PyBullet reports a base's centre-of-mass frame, which we convert.
+
+Grasping attaches the held object to the hand with a fixed constraint (the fingers close on
+it too, for looks and contacts): a constraint is deterministic and lets a held tool push
+other objects hard, which pure finger friction in PyBullet does unreliably.
+"""
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass
+from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+
+import numpy as np
+import pybullet as p
+
+from ..lang.scene import SceneObject
+from .robot import ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, Kinematics, Pose, load_panda
+from .snapshot import Snapshot, restore_snapshot, take_snapshot
+
+TIME_STEP = 1.0 / 240.0
+GRIPPER_FORCE = 40.0
+ARM_FORCE = 240.0
+
+
+@dataclass
+class Body:
+    name: str
+    id: int
+    fixed: bool
+    inertial: Pose  # the centre-of-mass frame in the link frame
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """The held object, its pose in the hand frame, and the constraint holding it."""
+
+    name: str
+    in_hand: Pose
+    constraint: int
+
+
+class SceneError(ValueError):
+    """A scene that cannot be built (unknown asset, overlapping objects); names the object."""
+
+    def __init__(self, name: str, message: str):
+        self.object_name = name
+        super().__init__(f"scene object '{name}': {message}")
+
+
+class World:
+    """A simulated tabletop: the Panda at `robot_base` and objects added from a scene."""
+
+    def __init__(self, gui: bool = False, robot_base: Pose = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))):
+        self.client = p.connect(p.GUI if gui else p.DIRECT)
+        p.setGravity(0, 0, -9.81, physicsClientId=self.client)
+        p.setTimeStep(TIME_STEP, physicsClientId=self.client)
+        self.robot = load_panda(self.client, robot_base)
+        self.kinematics = Kinematics(robot_base)
+        self.bodies: Dict[str, Body] = {}
+        self.attachment: Optional[Attachment] = None
+        self.arm_targets = np.array(HOME)
+        self.finger_target = MAX_OPENING / 2
+        self.set_arm(HOME)
+        self.set_fingers(MAX_OPENING / 2)
+        self._hold_position()
+        from .collision import disable_touching_self_pairs  # here: collision imports World
+        disable_touching_self_pairs(self)
+
+    # ------------------------------------------------------------------ lifetime
+    def close(self) -> None:
+        if self.client >= 0:
+            p.disconnect(self.client)
+            self.kinematics.close()
+            self.client = -1
+
+    def __enter__(self) -> "World":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ objects
+    def add_object(self, obj: SceneObject, urdf: str) -> Body:
+        """Load `obj` from `urdf` at its scene pose, with its physical overrides."""
+        if obj.name in self.bodies:
+            raise SceneError(obj.name, "is already in the world")
+        scale = obj.scale[0]
+        if any(abs(s - scale) > 1e-9 for s in obj.scale):
+            raise SceneError(obj.name, "PyBullet scales URDFs uniformly; give one :scale factor")
+        body_id = p.loadURDF(urdf, obj.position, obj.orientation, useFixedBase=obj.fixed, globalScaling=scale,
+                             flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=self.client)
+        info = p.getDynamicsInfo(body_id, -1, physicsClientId=self.client)
+        body = Body(obj.name, body_id, obj.fixed, (tuple(info[3]), tuple(info[4])))
+        self.bodies[obj.name] = body
+        changes = {}
+        if obj.mass is not None and not obj.fixed:
+            changes["mass"] = obj.mass
+        if obj.friction is not None:
+            changes["lateralFriction"] = obj.friction
+        if changes:
+            p.changeDynamics(body_id, -1, physicsClientId=self.client, **changes)
+        if obj.color is not None:
+            p.changeVisualShape(body_id, -1, rgbaColor=obj.color, physicsClientId=self.client)
+        self.set_pose(obj.name, (obj.position, obj.orientation))
+        return body
+
+    def movable(self) -> List[str]:
+        return [name for name, body in self.bodies.items() if not body.fixed]
+
+    def pose(self, name: str) -> Pose:
+        """The link-frame pose of an object."""
+        body = self.bodies[name]
+        com = p.getBasePositionAndOrientation(body.id, physicsClientId=self.client)
+        inv = p.invertTransform(*body.inertial)
+        pos, orn = p.multiplyTransforms(com[0], com[1], inv[0], inv[1])
+        return tuple(pos), tuple(orn)
+
+    def set_pose(self, name: str, pose: Pose) -> None:
+        body = self.bodies[name]
+        pos, orn = p.multiplyTransforms(pose[0], pose[1], *body.inertial)
+        p.resetBasePositionAndOrientation(body.id, pos, orn, physicsClientId=self.client)
+        p.resetBaseVelocity(body.id, (0, 0, 0), (0, 0, 0), physicsClientId=self.client)
+
+    def aabb(self, name: str) -> Tuple[np.ndarray, np.ndarray]:
+        lo, hi = p.getAABB(self.bodies[name].id, -1, physicsClientId=self.client)
+        return np.array(lo), np.array(hi)
+
+    def rest_on(self, name: str, support: str, xy: Optional[Sequence[float]] = None,
+                yaw: Optional[float] = None, gap: float = 1e-3) -> Pose:
+        """Put `name` at `xy` (default: where it is) with its lowest point `gap` above the
+        top of `support`'s bounding box; `yaw` (radians) turns it about z. For flat supports."""
+        pos, orn = self.pose(name)
+        if yaw is not None:
+            orn = tuple(p.getQuaternionFromEuler((0.0, 0.0, yaw)))
+        x, y = xy if xy is not None else pos[:2]
+        self.set_pose(name, ((x, y, pos[2]), orn))
+        lift = self.aabb(support)[1][2] + gap - self.aabb(name)[0][2]
+        pose = ((x, y, pos[2] + lift), orn)
+        self.set_pose(name, pose)
+        return pose
+
+    # ------------------------------------------------------------------ robot
+    def arm(self) -> np.ndarray:
+        states = p.getJointStates(self.robot, ARM_JOINTS, physicsClientId=self.client)
+        return np.array([s[0] for s in states])
+
+    def set_arm(self, q: Sequence[float]) -> None:
+        """Teleport the arm (and a held object) to `q`; motors then hold it there."""
+        for j, value in zip(ARM_JOINTS, q):
+            p.resetJointState(self.robot, j, float(value), 0.0, physicsClientId=self.client)
+        self.arm_targets = np.array(q, dtype=float)
+        if self.attachment is not None:
+            self.set_pose(self.attachment.name, self._held_pose())
+
+    def set_fingers(self, half_width: float) -> None:
+        for j in FINGER_JOINTS:
+            p.resetJointState(self.robot, j, half_width, 0.0, physicsClientId=self.client)
+        self.finger_target = half_width
+
+    def hand_pose(self) -> Pose:
+        state = p.getLinkState(self.robot, HAND_LINK, computeForwardKinematics=True, physicsClientId=self.client)
+        return tuple(state[4]), tuple(state[5])
+
+    def _held_pose(self) -> Pose:
+        hand = self.hand_pose()
+        pos, orn = p.multiplyTransforms(hand[0], hand[1], *self.attachment.in_hand)
+        return tuple(pos), tuple(orn)
+
+    def _hold_position(self) -> None:
+        p.setJointMotorControlArray(self.robot, ARM_JOINTS, p.POSITION_CONTROL, targetPositions=list(self.arm_targets),
+                                    forces=[ARM_FORCE] * 7, physicsClientId=self.client)
+        p.setJointMotorControlArray(self.robot, FINGER_JOINTS, p.POSITION_CONTROL,
+                                    targetPositions=[self.finger_target] * 2, forces=[GRIPPER_FORCE] * 2,
+                                    physicsClientId=self.client)
+
+    def attach(self, name: str, in_hand: Optional[Pose] = None) -> Attachment:
+        """Hold `name`: where it is now relative to the hand, or moved to `in_hand`."""
+        if self.attachment is not None:
+            raise RuntimeError(f"already holding '{self.attachment.name}'")
+        hand = self.hand_pose()
+        if in_hand is None:
+            inv = p.invertTransform(*hand)
+            obj = self.pose(name)
+            in_hand = p.multiplyTransforms(inv[0], inv[1], obj[0], obj[1])
+        else:
+            self.set_pose(name, p.multiplyTransforms(hand[0], hand[1], *in_hand))
+        body = self.bodies[name]
+        com_in_hand = p.multiplyTransforms(in_hand[0], in_hand[1], *body.inertial)
+        constraint = p.createConstraint(self.robot, HAND_LINK, body.id, -1, p.JOINT_FIXED, (0, 0, 0),
+                                        com_in_hand[0], (0, 0, 0), com_in_hand[1], (0, 0, 0, 1),
+                                        physicsClientId=self.client)
+        p.changeConstraint(constraint, maxForce=2000, physicsClientId=self.client)
+        self.attachment = Attachment(name, (tuple(in_hand[0]), tuple(in_hand[1])), constraint)
+        return self.attachment
+
+    def detach(self) -> Optional[str]:
+        if self.attachment is None:
+            return None
+        p.removeConstraint(self.attachment.constraint, physicsClientId=self.client)
+        name, self.attachment = self.attachment.name, None
+        return name
+
+    # ------------------------------------------------------------------ physics
+    def step(self, steps: int = 1) -> None:
+        self._hold_position()
+        for _ in range(steps):
+            p.stepSimulation(physicsClientId=self.client)
+
+    def settle(self, max_steps: int = 480, linear_tol: float = 2e-3, angular_tol: float = 2e-2,
+               quiet_steps: int = 10) -> int:
+        """Step until every movable object has been at rest for `quiet_steps` steps (or
+        `max_steps` pass): the briefly-dynamic outcome of a release or a push. Returns the
+        number of steps taken."""
+        movable = [self.bodies[n].id for n in self.movable()]
+        quiet = 0
+        for step in range(1, max_steps + 1):
+            self.step()
+            moving = False
+            for body_id in movable:
+                lin, ang = p.getBaseVelocity(body_id, physicsClientId=self.client)
+                if np.linalg.norm(lin) > linear_tol or np.linalg.norm(ang) > angular_tol:
+                    moving = True
+                    break
+            quiet = 0 if moving else quiet + 1
+            if quiet >= quiet_steps:
+                return step
+        return max_steps
+
+    # ------------------------------------------------------------------ snapshots
+    def snapshot(self) -> Snapshot:
+        return take_snapshot(self)
+
+    def restore(self, snapshot: Snapshot) -> None:
+        restore_snapshot(self, snapshot)
+
+    @contextlib.contextmanager
+    def saved(self) -> Iterator["World"]:
+        """Restore the world as it was when the block started, however it ends."""
+        snapshot = self.snapshot()
+        try:
+            yield self
+        finally:
+            self.restore(snapshot)

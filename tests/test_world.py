@@ -1,0 +1,220 @@
+"""The simulated world: scenes, kinematics, collisions, motion plans, contacts, physics, pictures."""
+import json
+import os
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from pdsketch_mech.lang.loader import load_problem
+from pdsketch_mech.lang.parser import parse_text
+from pdsketch_mech.lang.scene import SceneObject
+from pdsketch_mech.world.asset_index import resolve_asset
+from pdsketch_mech.world.build import build_world, default_assets_root
+from pdsketch_mech.world.collision import CollisionChecker
+from pdsketch_mech.world.contacts import read_contacts
+from pdsketch_mech.world.motion import cartesian_path, path_is_free, plan_motion
+from pdsketch_mech.world.render import render, save_gif, save_png
+from pdsketch_mech.world.world import SceneError, World
+
+from conftest import ROOT
+
+ASSETS = default_assets_root()
+DOWN = tuple(Rotation.from_euler("xyz", [np.pi, 0, 0]).as_quat())
+
+
+def table_world(*objects):
+    """A world with the table top at z = 0 and `objects` ((name, asset, x, y), ...) resting on it."""
+    world = World()
+    world.add_object(SceneObject("table", "table", (0.6, 0, 0), fixed=True), resolve_asset("table", ASSETS))
+    for name, asset, x, y in objects:
+        world.add_object(SceneObject(name, asset, (x, y, 0.5)), resolve_asset(asset, ASSETS))
+        world.rest_on(name, "table", (x, y))
+    return world
+
+
+def moved(before, after):
+    return float(np.linalg.norm(np.subtract(before[0], after[0])))
+
+
+def test_hook_problem_scene_loads():
+    _, problem = load_problem(os.path.join(ROOT, "problems", "hook-use.pddl"))
+    with build_world(problem) as world:
+        assert set(world.bodies) == {"table", "hook", "box"}
+        assert world.bodies["table"].fixed and not world.bodies["box"].fixed
+        assert np.allclose(world.pose("hook")[0], (0.5, 0.15, 0.011), atol=1e-6)
+
+
+def test_two_worlds_are_independent():
+    with table_world(("a", "block/0", 0.5, 0.0)) as first, table_world(("a", "block/0", 0.5, 0.0)) as second:
+        assert first.client != second.client
+        first.set_pose("a", ((0.3, 0.3, 0.5), (0, 0, 0, 1)))
+        assert np.allclose(second.pose("a")[0][:2], (0.5, 0.0), atol=1e-6)
+
+
+def movable_assets():
+    manifest = json.load(open(os.path.join(ASSETS, "manifest.json")))
+    return [f"{cat}/{i}" for cat, entry in manifest["categories"].items() if not entry["fixed"]
+            for i in range(len(entry["variants"]))]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("asset", movable_assets())
+def test_every_asset_rests_stably_on_the_table(asset):
+    with table_world(("thing", asset, 0.5, 0.0)) as world:
+        world.settle(max_steps=600)
+        before = world.pose("thing")
+        world.settle(max_steps=240)
+        assert moved(before, world.pose("thing")) < 0.005
+        assert ("thing", "table") in read_contacts(world).support
+
+
+def test_snapshot_restore_is_exact():
+    with table_world(("a", "block/0", 0.5, 0.0), ("b", "box/0", 0.5, 0.2)) as world:
+        world.settle()
+        snapshot = world.snapshot()
+        poses = {n: world.pose(n) for n in world.bodies}
+        arm = world.arm()
+        world.set_arm(world.kinematics.limits.sample(np.random.default_rng(1)))
+        world.set_pose("a", ((0.2, -0.2, 0.3), (0, 0, 0, 1)))
+        world.step(50)
+        world.restore(snapshot)
+        assert all(world.pose(n) == poses[n] for n in world.bodies)
+        assert np.array_equal(world.arm(), arm)
+        with world.saved():
+            world.set_pose("b", ((0.1, 0.1, 0.4), (0, 0, 0, 1)))
+        assert world.pose("b") == poses["b"]
+
+
+def test_ik_solutions_are_verified_by_forward_kinematics():
+    rng = np.random.default_rng(0)
+    with World() as world:
+        kin = world.kinematics
+        for _ in range(20):
+            target = np.array([rng.uniform(0.3, 0.6), rng.uniform(-0.3, 0.3), rng.uniform(0.05, 0.3)])
+            q = kin.ik(target, DOWN, rng)
+            assert q is not None and kin.limits.contains(q)
+            position, orientation = kin.fk(q)
+            assert np.linalg.norm(np.subtract(position, target)) < 0.005
+            assert (Rotation.from_quat(orientation) * Rotation.from_quat(DOWN).inv()).magnitude() < 0.05
+        assert kin.ik([3.0, 0.0, 0.2], DOWN, rng) is None  # far out of reach
+
+
+def test_motion_plan_is_collision_free_along_the_whole_path():
+    rng = np.random.default_rng(2)
+    with table_world(("wall", "brick/0", 0.5, 0.0)) as world:
+        start = world.kinematics.ik([0.5, -0.2, 0.04], DOWN, rng)
+        goal = world.kinematics.ik([0.5, 0.2, 0.04], DOWN, rng)
+        result = plan_motion(world, start, goal, timeout=5.0)
+        assert result.path is not None, result.reason
+        assert np.allclose(result.path[0], start) and np.allclose(result.path[-1], goal)
+        assert path_is_free(world, result.path, step=0.005)
+        assert not path_is_free(world, np.array([start, goal]), step=0.005)  # the straight line hits the box
+
+
+def test_motion_plan_reports_a_colliding_goal():
+    rng = np.random.default_rng(3)
+    with table_world(("wall", "box/0", 0.5, 0.0)) as world:
+        start = world.kinematics.ik([0.5, -0.25, 0.15], DOWN, rng)
+        inside = world.kinematics.ik(list(world.aabb("wall")[1] - [0.06, 0.06, 0.03]), DOWN, rng)
+        result = plan_motion(world, start, inside, timeout=1.0)
+        assert result.path is None and result.reason.startswith("goal configuration is in collision with")
+
+
+def test_cartesian_path_moves_in_a_straight_line():
+    rng = np.random.default_rng(4)
+    with World() as world:
+        start = world.kinematics.ik([0.45, 0.0, 0.2], DOWN, rng)
+        path = cartesian_path(world, start, [0, 0, -1], 0.1, rng)
+        assert path is not None
+        points = np.array([world.kinematics.fk(q)[0] for q in path])
+        assert np.allclose(points[:, :2], [0.45, 0.0], atol=0.006) and abs(points[-1, 2] - 0.1) < 0.006
+
+
+def test_contact_graph_support_and_holding():
+    with table_world(("base", "box/0", 0.5, 0.0), ("top", "block/0", 0.5, 0.2)) as world:
+        world.rest_on("top", "base", (0.5, 0.0))
+        world.settle()
+        graph = read_contacts(world)
+        assert graph.support == {("base", "table"), ("top", "base")}
+        assert graph.holding is None and ("handempty",) in graph.facts()
+        world.attach("top")
+        graph = read_contacts(world)
+        assert graph.holding == "top" and ("top", "base") not in graph.support
+
+
+def test_held_object_follows_the_hand_and_is_checked_for_collisions():
+    rng = np.random.default_rng(5)
+    with table_world(("held", "block/0", 0.5, 0.0), ("other", "box/0", 0.5, 0.25)) as world:
+        grasp = world.kinematics.ik(np.add(world.pose("held")[0], [0, 0, 0.01]), DOWN, rng)
+        world.set_arm(grasp)
+        world.attach("held")
+        offset = np.subtract(world.pose("held")[0], world.hand_pose()[0])
+        world.set_arm(world.kinematics.ik([0.4, -0.2, 0.25], DOWN, rng))
+        assert np.allclose(np.subtract(world.pose("held")[0], world.hand_pose()[0]), offset, atol=1e-4)
+        above_other = world.kinematics.ik(np.add(world.pose("other")[0], [0, 0, 0.045]), DOWN, rng)
+        checker = CollisionChecker(world)
+        with world.saved():
+            assert checker.collides(above_other)           # the held block sinks into the box
+            assert not CollisionChecker(world, ignore=["other"]).collides(above_other)
+
+
+def slide_distance(slope_asset, friction):
+    with World() as world:
+        world.add_object(SceneObject("slope", slope_asset, (0.5, 0, 0), fixed=True, friction=friction),
+                         resolve_asset(slope_asset, ASSETS))
+        world.add_object(SceneObject("block", "block/0", (0.5, 0, 1.0), friction=friction),
+                         resolve_asset("block/0", ASSETS))
+        lo, hi = world.aabb("slope")
+        centre = (lo + hi) / 2
+        world.set_pose("block", ((centre[0], centre[1], hi[2] + 0.05), (0, 0, 0, 1)))
+        world.settle(max_steps=120)  # land on the board
+        start = world.pose("block")
+        world.settle(max_steps=720)
+        return moved(start, world.pose("block"))
+
+
+def test_block_slides_off_a_steep_slippery_slope_but_not_a_gentle_rough_one():
+    assert slide_distance("slope/2", friction=0.2) > 0.05
+    assert slide_distance("slope/0", friction=1.0) < 0.01
+
+
+def test_plate_pushed_past_the_table_edge_tips_and_an_overhang_stays():
+    with table_world(("plate", "plate/0", 0.5, 0.0)) as world:
+        edge = world.aabb("table")[1][0]
+        radius = (world.aabb("plate")[1][0] - world.aabb("plate")[0][0]) / 2
+        world.rest_on("plate", "table", (edge + radius * 0.1, 0.0))   # overhangs by 60 %: centre beyond the edge
+        world.settle(max_steps=720)
+        assert world.pose("plate")[0][2] < -0.05                      # fell off
+        world.set_pose("plate", ((0.5, 0, 0.3), (0, 0, 0, 1)))
+        world.rest_on("plate", "table", (edge - radius * 0.6, 0.0))   # overhangs by 40 %: stays
+        world.settle(max_steps=60)                                    # drop the bounding-box padding
+        before = world.pose("plate")
+        world.settle(max_steps=720)
+        assert moved(before, world.pose("plate")) < 0.005
+
+
+def test_rendering_produces_a_non_blank_image(tmp_path):
+    with table_world(("a", "block/0", 0.5, 0.0)) as world:
+        image = render(world)
+        assert image.shape == (360, 480, 3) and image.std() > 10
+        save_png(image, str(tmp_path / "scene.png"))
+        save_gif([image, render(world)], str(tmp_path / "scene.gif"))
+        assert (tmp_path / "scene.png").stat().st_size > 1000 and (tmp_path / "scene.gif").stat().st_size > 1000
+
+
+SCENE_PROBLEM = """(define (problem p) (:domain mech-basis) (:objects table a b - item)
+  (:init (handempty)) (:goal (holding a))
+  (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+          (a :asset "{a}" :position (0.5 0 {z}))
+          (b :asset "block/0" :position (0.5 0.3 0.5))))"""
+
+
+def test_unknown_asset_is_an_error_naming_the_object():
+    with pytest.raises(SceneError, match="scene object 'a': .*l-stik"):
+        build_world(parse_text(SCENE_PROBLEM.format(a="l-stik/0", z=0.5)))
+
+
+def test_object_inside_another_is_an_error_naming_it():
+    with pytest.raises(SceneError, match=r"scene object 'a': overlaps 'b' by \d+\.\d cm"):
+        build_world(parse_text(SCENE_PROBLEM.format(a="block/0", z=0.5).replace("(0.5 0.3 0.5)", "(0.5 0 0.5)")))
