@@ -1,7 +1,8 @@
 """`python -m pdsketch_mech.check FILE ...`: parse and type-check domain and problem files.
 
 Domain files are checked with everything they `:extends`; a problem is checked against the
-domain it names, found among the given files or beside the problem. Exit 0 when every file
+domain it names, found among the given files or beside the problem, and its scene's assets
+must exist. Exit 0 when every file
 is clean, 2 otherwise, with one `FILE:LINE:COL: error: ...` line per failing file.
 """
 from __future__ import annotations
@@ -13,6 +14,7 @@ from typing import List, Optional, Sequence
 from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error, run
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, declared_domain_name, load_domain, load_problem
+from .world.build import resolve_scene_assets
 
 
 def _plural(count: int, word: str) -> str:
@@ -52,6 +54,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     for path in problem_files:
         try:
             domain, problem = load_problem(path, loaded)
+            resolve_scene_assets(problem)
         except PddlError as error:
             print_error(error)
             failures += 1

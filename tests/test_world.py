@@ -9,17 +9,18 @@ from scipy.spatial.transform import Rotation
 from pdsketch_mech.lang.loader import load_problem
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.lang.scene import SceneObject
-from pdsketch_mech.world.asset_index import resolve_asset
-from pdsketch_mech.world.build import build_world, default_assets_root
+from pdsketch_mech.world.asset_index import assets_root, resolve_asset
+from pdsketch_mech.world.build import build_world
 from pdsketch_mech.world.collision import CollisionChecker
 from pdsketch_mech.world.contacts import read_contacts
 from pdsketch_mech.world.motion import cartesian_path, path_is_free, plan_motion
 from pdsketch_mech.world.render import render, save_gif, save_png
-from pdsketch_mech.world.world import SceneError, World
+from pdsketch_mech.lang.errors import PddlError
+from pdsketch_mech.world.world import World
 
 from conftest import ROOT
 
-ASSETS = default_assets_root()
+ASSETS = assets_root()
 DOWN = tuple(Rotation.from_euler("xyz", [np.pi, 0, 0]).as_quat())
 
 
@@ -210,11 +211,19 @@ SCENE_PROBLEM = """(define (problem p) (:domain mech-basis) (:objects table a b 
           (b :asset "block/0" :position (0.5 0.3 0.5))))"""
 
 
-def test_unknown_asset_is_an_error_naming_the_object():
-    with pytest.raises(SceneError, match="scene object 'a': .*l-stik"):
-        build_world(parse_text(SCENE_PROBLEM.format(a="l-stik/0", z=0.5)))
+def test_unknown_asset_is_a_located_error_naming_the_object():
+    with pytest.raises(PddlError) as error:
+        build_world(parse_text(SCENE_PROBLEM.format(a="l-stik/0", z=0.5), "p.pddl"))
+    assert str(error.value).startswith("p.pddl:4:14: error: scene object 'a': unknown asset 'l-stik/0'")
 
 
-def test_object_inside_another_is_an_error_naming_it():
-    with pytest.raises(SceneError, match=r"scene object 'a': overlaps 'b' by \d+\.\d cm"):
-        build_world(parse_text(SCENE_PROBLEM.format(a="block/0", z=0.5).replace("(0.5 0.3 0.5)", "(0.5 0 0.5)")))
+def test_object_inside_another_is_a_located_error_naming_it():
+    text = SCENE_PROBLEM.format(a="block/0", z=0.5).replace("(0.5 0.3 0.5)", "(0.5 0 0.5)")
+    with pytest.raises(PddlError, match=r"^p.pddl:4:11: error: scene object 'a': overlaps 'b' by \d+\.\d cm"):
+        build_world(parse_text(text, "p.pddl"))
+
+
+def test_scene_overlapping_the_robot_is_reported():
+    text = SCENE_PROBLEM.format(a="box/0", z=0.3).replace("(0.5 0 0.3)", "(0.0 0.0 0.3)")
+    with pytest.raises(PddlError, match="scene object 'a': overlaps the robot"):
+        build_world(parse_text(text, "p.pddl"))

@@ -13,8 +13,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..lang.scene import SceneObject
-from ..world.asset_index import resolve_asset
-from ..world.build import default_assets_root
+from ..world.asset_index import assets_root, resolve_asset
 from ..world.collision import CollisionChecker
 from ..world.motion import path_is_free, plan_motion, seed_motion_planning
 from ..world.world import World
@@ -30,7 +29,7 @@ OBSTACLES = [("box/0", 0.55, 0.0, 0.3), ("brick/0", 0.42, -0.25, 1.2), ("block/0
 
 def tabletop(seed: int = 0) -> World:
     """The benchmark scene: the table's top at z = 0 in front of the robot, and obstacles."""
-    root = default_assets_root()
+    root = assets_root()
     world = World()
     world.add_object(SceneObject("table", "table", (0.6, 0.0, 0.0), fixed=True), resolve_asset("table", root))
     for i, (asset, x, y, yaw) in enumerate(OBSTACLES):

@@ -15,6 +15,11 @@ ASSETS_DIR = os.path.join(REPO_ROOT, "assets")
 MANIFEST = "manifest.json"
 
 
+def assets_root() -> str:
+    """Where scenes' assets are looked up: `$PDSKETCH_ASSETS`, else the repository's `assets/`."""
+    return os.environ.get("PDSKETCH_ASSETS") or ASSETS_DIR
+
+
 @lru_cache(maxsize=8)
 def _load(path: str, mtime: float) -> Dict[str, Any]:
     # Keyed on the modification time, so a regenerated manifest is re-read.
@@ -24,9 +29,10 @@ def _load(path: str, mtime: float) -> Dict[str, Any]:
 
 def load_manifest(root: Optional[str] = None) -> Dict[str, Any]:
     """The manifest of the assets folder `root` (default: the repository's `assets/`)."""
-    path = os.path.join(root or ASSETS_DIR, MANIFEST)
+    root = root or assets_root()
+    path = os.path.join(root, MANIFEST)
     if not os.path.isfile(path):
-        raise FileNotFoundError(f"no {MANIFEST} in {root or ASSETS_DIR}; "
+        raise FileNotFoundError(f"no {MANIFEST} in {root}; "
                                 "generate the assets with `python -m pdsketch_mech.assets`")
     return _load(path, os.path.getmtime(path))
 
@@ -58,7 +64,7 @@ def asset_info(name: str, root: Optional[str] = None) -> Dict[str, Any]:
 
 def resolve_asset(name: str, root: Optional[str] = None) -> str:
     """The absolute path of the asset's `model.urdf`; ValueError for an unknown name."""
-    base = os.path.abspath(root or ASSETS_DIR)
+    base = os.path.abspath(root or assets_root())
     path = os.path.join(base, asset_info(name, root)["path"])
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path} is listed in the manifest but missing; "

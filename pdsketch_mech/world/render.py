@@ -17,8 +17,8 @@ if TYPE_CHECKING:
 class Camera:
     """Looks at `target` from `distance` metres at `yaw`/`pitch` degrees."""
 
-    target: Tuple[float, float, float] = (0.45, 0.0, 0.05)
-    distance: float = 1.5
+    target: Tuple[float, float, float] = (0.4, 0.0, 0.2)
+    distance: float = 1.9
     yaw: float = 45.0
     pitch: float = -35.0
     width: int = 480
