@@ -9,8 +9,9 @@ STAMP := $(VENV)/.installed
 
 demo: $(STAMP)
 	$(BIN)/python -m pdsketch_mech.check domains/basis.pddl domains/mechanisms/*.pddl problems/*.pddl
-	$(BIN)/python -m pdsketch_mech.plan tests/data/ipc/logistics00/domain.pddl \
-	    tests/data/ipc/logistics00/problem02.pddl --validate
+	mkdir -p out
+	$(BIN)/python -m pdsketch_mech.plan domains/mechanisms/hook-use.pddl problems/hook-use.pddl \
+	    --json out/hook-use.json --render out/hook-use.gif
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

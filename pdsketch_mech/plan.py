@@ -2,8 +2,9 @@
 
 Prints the plan on stdout, one `(action arg ...)` a line, and a one-line summary on stderr.
 Exit 0 solved, 1 no plan within the limits, 2 bad input (one `FILE:LINE:COL: error:` line).
-Classical PDDL is planned directly. A domain with streams needs the bilevel planner; until
-it lands, `--skeletons N` prints the first N symbolic skeletons with placeholder values.
+Classical PDDL is planned directly; a domain with streams (and a problem with a :scene) goes
+to the bilevel planner, which samples and simulates continuous parameters.
+`--skeletons N` prints the first N symbolic skeletons with placeholder values.
 """
 from __future__ import annotations
 
@@ -40,6 +41,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--validate", action="store_true", help="re-check the plan against the domain")
     parser.add_argument("--skeletons", type=int, metavar="N",
                         help="print the first N symbolic skeletons (placeholders for stream outputs)")
+    parser.add_argument("--render", metavar="FILE.gif", help="replay the plan in a fresh world and save a GIF")
+    parser.add_argument("--basis-only", action="store_true", help="ignore mechanisms: basis operators only")
+    parser.add_argument("--no-learned-samplers", action="store_true",
+                        help="use the generic samplers inside mechanisms too (the paper's 'Macro' ablation)")
     return parser
 
 
@@ -57,10 +62,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.skeletons is not None:
         return _print_skeletons(loaded, problem, args.skeletons, args.timeout)
     if loaded.domain.streams:
-        print(f"{args.domain}: error: domain '{loaded.domain.name}' has streams; planning with continuous "
-              "parameters needs the bilevel planner, which is not available yet (try --skeletons N)",
-              file=sys.stderr)
-        return EXIT_BAD_INPUT
+        from .manipulation import plan_manipulation  # imports PyBullet and torch-free samplers
+        return plan_manipulation(args, loaded, problem)
     result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, args.timeout)
     for name, plan_args in result.plan:
         print(f"({' '.join((name,) + plan_args)})")

@@ -12,4 +12,4 @@
   (:scene
     (table :asset "table" :position (0.6 0.0 0.0) :fixed)
     (hook :asset "l-stick/0" :position (0.5 0.15 0.011) :on table)
-    (box :asset "box/0" :position (0.92 0.0 0.031) :on table :mass 0.2 :friction 0.6)))
+    (box :asset "box/0" :position (0.95 0.0 0.031) :rpy-deg (0 0 90) :on table :mass 0.2 :friction 0.6)))

@@ -72,12 +72,20 @@ def test_timeout_is_honoured(capsys):
     assert time.perf_counter() - start < 5  # generous: the limit is 0.5 s, checked every expansion
 
 
-def test_domain_with_streams_points_to_skeletons(capsys):
+def test_skeletons_of_a_stream_domain(capsys):
     basis, problem = os.path.join(ROOT, "domains", "basis.pddl"), os.path.join(ROOT, "problems", "hook-use.pddl")
-    status, _, err = run_plan(capsys, basis, problem)
-    assert status == 2 and len(err) == 1 and "try --skeletons N" in err[0]
     status, out, _ = run_plan(capsys, basis, problem, "--skeletons", "2")
     assert status == 0 and out[0] == "1: (grasp box table #grasp3 #traj4)" and len(out) == 2
+
+
+def test_stream_domain_needs_a_scene(write_files, capsys):
+    basis = os.path.join(ROOT, "domains", "basis.pddl")
+    text = open(os.path.join(ROOT, "problems", "pick.pddl")).read()
+    text = text[: text.index("  (:scene")].rstrip() + ")\n"
+    (problem,) = write_files(**{"p.pddl": text})
+    status, out, err = run_plan(capsys, basis, problem)
+    assert (status, out) == (2, [])
+    assert len(err) == 1 and err[0].startswith(f"{problem}:2:1: error: problem 'pick-block' has no :scene")
 
 
 def test_command_line_closes_quietly_on_a_closed_pipe():

@@ -79,6 +79,22 @@ def run_world_command(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def run_plan_command(args: argparse.Namespace) -> int:
+    """`plan`: solve each PROBLEM (with DOMAIN) over N seeds and print the summary table."""
+    from . import plans
+
+    missing = [f for f in [args.domain, *args.problems] if not os.path.isfile(f)]
+    if missing:
+        raise ipc.BenchError(f"{missing[0]}: no such file")
+    runs = plans.run_plans([(args.domain, p) for p in args.problems], range(args.seeds), args.timeout)
+    header, cells = plans.table(runs)
+    print(render_text(header, cells, []), end="")
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as handle:
+            json.dump([asdict(r) for r in runs], handle, indent=1)
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser, one sub-parser per benchmark."""
     parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.bench", description="Planner benchmarks.")
@@ -98,6 +114,13 @@ def build_parser() -> argparse.ArgumentParser:
     world.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
     world.add_argument("--json", metavar="FILE", help="write the figures as JSON")
     world.set_defaults(func=run_world_command)
+    solve = commands.add_parser("plan", help="manipulation problems over several seeds: time and samples")
+    solve.add_argument("domain", metavar="DOMAIN", help="domain file (e.g. domains/basis.pddl or a mechanism)")
+    solve.add_argument("problems", nargs="+", metavar="PROBLEM", help="problem files")
+    solve.add_argument("--seeds", type=int, default=5, metavar="N", help="seeds 0..N-1 (default 5)")
+    solve.add_argument("--timeout", type=float, default=300.0, metavar="S", help="seconds per run (default 300)")
+    solve.add_argument("--json", metavar="FILE", help="write every run as JSON")
+    solve.set_defaults(func=run_plan_command)
     return parser
 
 

@@ -32,6 +32,7 @@ class Operator:
     delete: int
     conditional: Tuple[ConditionalEffect, ...] = ()
     artificial: bool = False  # compiled goal disjunctions; never shown in plans
+    steps: Tuple[int, ...] = ()  # a mechanism (macro): the ids of its basis operators, in order
 
     @property
     def label(self) -> str:

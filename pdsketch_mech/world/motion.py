@@ -21,7 +21,7 @@ from .robot import ARM_JOINTS
 if TYPE_CHECKING:
     from .world import World
 
-ou.setLogLevel(ou.LOG_ERROR)
+ou.setLogLevel(ou.LOG_NONE)  # failures are reported by MotionResult.reason
 RESOLUTION = 0.05   # radians between consecutive waypoints of a returned path
 CHECK_STEP = 0.01   # radians between collision checks along an edge (OMPL's setting is relative
                     # to the space's extent, ~13 rad here: 0.005 of it missed thin obstacles)
@@ -84,9 +84,9 @@ def _rrt_connect(checker: CollisionChecker, lower, upper, start, goal, timeout: 
     info = setup.getSpaceInformation()
     info.setStateValidityCheckingResolution(CHECK_STEP / space.getMaximumExtent())
     start_state, goal_state = space.allocState(), space.allocState()
-    for i in range(n):
-        start_state[i] = float(start[i])
-        goal_state[i] = float(goal[i])
+    for i in range(n):  # clip: our limit check has a tolerance, OMPL's bounds have none
+        start_state[i] = float(np.clip(start[i], lower[i], upper[i]))
+        goal_state[i] = float(np.clip(goal[i], lower[i], upper[i]))
     setup.setStartAndGoalStates(start_state, goal_state)
     setup.setPlanner(og.RRTConnect(info))
     setup.solve(timeout)

@@ -22,6 +22,10 @@ HAND_LINK = 8            # panda_hand: attachments are made to it
 TCP_LINK = 11            # panda_grasptarget: the point between the fingertips
 HOME = (0.0, -0.5, 0.0, -2.2, 0.0, 1.7, 0.785)
 MAX_OPENING = 0.08       # metres between the fingers, fully open
+CLOSED = 0.002           # finger half-width when "closed" on nothing: at 0 the finger meshes overlap
+SHOULDER = 0.333         # joint 2 above the base
+WRIST = 0.21             # the flange, behind the gripper frame along its z axis
+REACH = 0.82             # no flange is farther than this from the shoulder (FK samples: 0.808)
 
 Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]  # (xyz, quaternion xyzw)
 

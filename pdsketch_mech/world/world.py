@@ -18,7 +18,8 @@ import numpy as np
 import pybullet as p
 
 from ..lang.scene import SceneObject
-from .robot import ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, Kinematics, Pose, load_panda
+from .robot import (ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, REACH, SHOULDER, TCP_LINK, WRIST,
+                    Kinematics, Pose, load_panda)
 from .snapshot import Snapshot, restore_snapshot, take_snapshot
 
 TIME_STEP = 1.0 / 240.0
@@ -32,6 +33,8 @@ class Body:
     id: int
     fixed: bool
     inertial: Pose  # the centre-of-mass frame in the link frame
+    urdf: str = ""
+    scale: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -94,7 +97,7 @@ class World:
         body_id = p.loadURDF(urdf, obj.position, obj.orientation, useFixedBase=obj.fixed, globalScaling=scale,
                              flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=self.client)
         info = p.getDynamicsInfo(body_id, -1, physicsClientId=self.client)
-        body = Body(obj.name, body_id, obj.fixed, (tuple(info[3]), tuple(info[4])))
+        body = Body(obj.name, body_id, obj.fixed, (tuple(info[3]), tuple(info[4])), urdf, scale)
         self.bodies[obj.name] = body
         changes = {}
         if obj.mass is not None and not obj.fixed:
@@ -138,8 +141,14 @@ class World:
             orn = tuple(p.getQuaternionFromEuler((0.0, 0.0, yaw)))
         x, y = xy if xy is not None else pos[:2]
         self.set_pose(name, ((x, y, pos[2]), orn))
-        lift = self.aabb(support)[1][2] + gap - self.aabb(name)[0][2]
-        pose = ((x, y, pos[2] + lift), orn)
+        # Bounding boxes include PyBullet's ~4 mm collision margin: use them to get close,
+        # then the true closest distance to land `gap` above the support.
+        z = pos[2] + self.aabb(support)[1][2] + 0.01 - self.aabb(name)[0][2]
+        self.set_pose(name, ((x, y, z), orn))
+        points = p.getClosestPoints(self.bodies[name].id, self.bodies[support].id, 0.1, physicsClientId=self.client)
+        if points:
+            z -= min(c[8] for c in points) - gap
+        pose = ((x, y, z), orn)
         self.set_pose(name, pose)
         return pose
 
@@ -164,6 +173,28 @@ class World:
     def hand_pose(self) -> Pose:
         state = p.getLinkState(self.robot, HAND_LINK, computeForwardKinematics=True, physicsClientId=self.client)
         return tuple(state[4]), tuple(state[5])
+
+    def tcp_pose(self) -> Pose:
+        """The gripper frame (between the fingertips; z = approach, y = closing axis)."""
+        state = p.getLinkState(self.robot, TCP_LINK, computeForwardKinematics=True, physicsClientId=self.client)
+        return tuple(state[4]), tuple(state[5])
+
+    def within_reach(self, tcp: np.ndarray) -> bool:
+        """A cheap necessary condition for IK of a gripper-frame pose (4x4 matrix): the
+        flange, WRIST behind it, lies within REACH of the shoulder. Spares the solver's
+        ~0.1 s of failing restarts for poses far out of reach."""
+        shoulder = np.array(p.multiplyTransforms(*p.getBasePositionAndOrientation(self.robot, physicsClientId=self.client),
+                                                 (0, 0, SHOULDER), (0, 0, 0, 1))[0])
+        return float(np.linalg.norm(tcp[:3, 3] - WRIST * tcp[:3, 2] - shoulder)) < REACH
+
+    def held_tcp_in_object(self) -> Optional[Pose]:
+        """The current grasp as the gripper frame's pose in the held object's frame."""
+        if self.attachment is None:
+            return None
+        inv = p.invertTransform(*self.pose(self.attachment.name))
+        tcp = self.tcp_pose()
+        pos, orn = p.multiplyTransforms(inv[0], inv[1], tcp[0], tcp[1])
+        return tuple(pos), tuple(orn)
 
     def _held_pose(self) -> Pose:
         hand = self.hand_pose()

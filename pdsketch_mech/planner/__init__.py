@@ -1,0 +1,1 @@
+"""The adaptive bilevel planner (paper Alg. 1): symbolic skeletons, continuous refinement."""

@@ -1,0 +1,129 @@
+"""The adaptive bilevel planner: skeletons from the FF-guided symbolic search (with
+optimistic stream placeholders), refined by sampling and simulation.
+
+Adaptive, in PDDLStream's sense: every round takes one more skeleton from the generator and
+gives every unfinished skeleton another time slice (growing each round), so a long skeleton
+that needs many samples is not starved by the search for new ones, and vice versa.
+"""
+from __future__ import annotations
+
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+from ..lang.loader import LoadedDomain
+from ..lang.nodes import Problem
+from ..symbolic.grounding import ground
+from ..symbolic.optimistic import optimistic_problem
+from ..symbolic.skeletons import iter_skeletons
+from ..symbolic.task import StripsTask
+from ..world.world import World
+from .bindings import StepSampler
+from .macros import add_mechanism_macros
+from .refine import Refinement, Step, contact_mask, observed_state, skeleton_steps
+
+FIRST_SLICE = 1.5   # seconds a skeleton gets in its first round
+SLICE_GROWTH = 1.5
+
+
+@dataclass
+class PlanResult:
+    status: str                                         # "solved" | "unsolved"
+    steps: List[Step] = field(default_factory=list)
+    values: List[Dict[str, object]] = field(default_factory=list)
+    time_s: float = 0.0
+    stats: Dict[str, object] = field(default_factory=dict)
+    reason: str = ""
+
+
+def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = True):
+    """Optimistic problem, grounded task (nothing pruned: effect-free pushes matter), and
+    mechanisms as macro operators."""
+    optimistic, placeholders = optimistic_problem(domain.domain, problem, domain.types)
+    task = ground(domain.domain, optimistic, domain.types, prune_irrelevant=False)
+    if use_mechanisms and domain.domain.mechanisms:
+        add_mechanism_macros(task, domain.domain, domain.types, optimistic)
+    return task, placeholders
+
+
+def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
+                 use_mechanisms: bool = True, max_skeletons: int = 200) -> PlanResult:
+    """Plan in `world` (left as it was) within `timeout` seconds."""
+    start = time.perf_counter()
+    deadline = start + timeout
+    rng = np.random.default_rng(seed)
+    task, placeholders = prepare_task(domain, problem, use_mechanisms)
+    counts: Counter = Counter()
+    sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts)
+    world.settle()
+    initial = world.snapshot()
+    stats: Dict[str, object] = {"skeletons": 0, "samples": counts, "operators": len(task.operators),
+                                "executions": 0, "symbolic_s": 0.0, "continuous_s": 0.0}
+    mismatch = _initial_mismatch(task, world)
+    if mismatch:
+        stats["warning"] = mismatch
+    skeletons = iter_skeletons(task, deadline=deadline)
+    active: List[Refinement] = []
+    failures: Counter = Counter()
+    budget = FIRST_SLICE
+    more = True
+    try:
+        while time.perf_counter() < deadline:
+            if more and stats["skeletons"] < max_skeletons:
+                t0 = time.perf_counter()
+                plan = next(skeletons, None)
+                stats["symbolic_s"] += time.perf_counter() - t0
+                if plan is None:
+                    more = False
+                else:
+                    stats["skeletons"] += 1
+                    active.append(Refinement(skeleton_steps(task, plan), initial, world, task, sampler, rng))
+            if not active and not more:
+                break
+            for refinement in list(active):
+                t0 = time.perf_counter()
+                values = refinement.run(min(deadline, time.perf_counter() + budget))
+                stats["continuous_s"] += time.perf_counter() - t0
+                if values is not None:
+                    return _result("solved", refinement, values, start, stats, failures + refinement.failures)
+                if refinement.exhausted:
+                    active.remove(refinement)
+                    failures += refinement.failures
+                    stats["executions"] += refinement.executions
+            budget *= SLICE_GROWTH
+    finally:
+        world.restore(initial)
+    for refinement in active:
+        failures += refinement.failures
+        stats["executions"] += refinement.executions
+    reason = "timed out" if time.perf_counter() >= deadline else "no skeleton could be refined"
+    return PlanResult("unsolved", time_s=time.perf_counter() - start, stats=_finish_stats(stats, failures),
+                      reason=reason)
+
+
+def _result(status: str, refinement: Refinement, values, start: float, stats, failures) -> PlanResult:
+    stats["executions"] += refinement.executions
+    return PlanResult(status, refinement.steps, values, time.perf_counter() - start, _finish_stats(stats, failures))
+
+
+def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, object]:
+    out = dict(stats)
+    out["samples"] = dict(sorted(stats["samples"].items()))
+    out["symbolic_s"] = round(stats["symbolic_s"], 3)
+    out["continuous_s"] = round(stats["continuous_s"], 3)
+    out["failures"] = dict(failures.most_common(8))
+    return out
+
+
+def _initial_mismatch(task: StripsTask, world: World) -> Optional[str]:
+    """The problem's :init and the simulated scene should agree on the contact graph."""
+    diff = (observed_state(task, world) ^ task.init) & contact_mask(task)
+    if not diff:
+        return None
+    facts = [task.facts[i] for i in range(len(task.facts)) if diff >> i & 1]
+    shown = ", ".join("(" + " ".join(f) + ")" + (" holds in the scene" if observed_state(task, world) >> task.fact_ids[f] & 1
+                                                  else " is not true in the scene") for f in facts[:4])
+    return f"the scene and :init disagree: {shown}"

@@ -1,0 +1,112 @@
+"""Mechanisms as macro operators of the grounded task.
+
+A mechanism grounded on objects binds each of its steps to a ground basis operator (its
+continuous variables to the placeholders those operators use, consistently across steps);
+the macro's precondition is the mechanism's precondition plus what the steps need that
+earlier steps do not provide, and its effect is the steps' composed effect. The symbolic
+search can then use a whole mechanism as one action; refinement expands it again.
+"""
+from __future__ import annotations
+
+from collections import defaultdict
+from itertools import product
+from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+
+from ..lang.nodes import Const, Domain, Mechanism, Problem, Var
+from ..lang.typecheck import TypeTable
+from ..symbolic.grounding import objects_by_type
+from ..symbolic.normalize import dnf, substitute
+from ..symbolic.task import Operator, StripsTask
+
+
+def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, problem: Problem) -> int:
+    """Append one macro operator per applicable grounding of each mechanism; returns how many."""
+    objects = objects_by_type(domain, problem, types)
+    by_signature: Dict[Tuple[str, Tuple[str, ...]], List[int]] = defaultdict(list)
+    for op_id, op in enumerate(task.operators):
+        by_signature[(op.name, tuple(a for a in op.args if not a.startswith("#")))].append(op_id)
+    added = 0
+    for mechanism in domain.mechanisms:
+        object_params = [q for q in mechanism.parameters if not types.is_value(q.type)]
+        for values in product(*(objects.get(q.type, ()) for q in object_params)):
+            binding = {q.name: v for q, v in zip(object_params, values)}
+            for step_ids in _bind_steps(mechanism, binding, task, by_signature):
+                macro = _compose(mechanism, binding, values, step_ids, task, objects)
+                if macro is not None:
+                    task.operators.append(macro)
+                    added += 1
+                    break  # one binding of the continuous variables is enough symbolically
+    return added
+
+
+def _bind_steps(mechanism: Mechanism, binding: Dict[str, str], task: StripsTask,
+                by_signature) -> Iterator[List[int]]:
+    """Ground basis operators for the steps, continuous variables bound consistently."""
+    def walk(i: int, env: Dict[str, str], chosen: List[int]):
+        if i == len(mechanism.actions):
+            yield list(chosen)
+            return
+        call = mechanism.actions[i]
+        names = [env.get(t.name, t.name) if isinstance(t, Var) else t.name for t in call.args]
+        objects_only = tuple(n for n in names if not n.startswith("?"))
+        for op_id in by_signature.get((call.name, objects_only), ()):
+            op = task.operators[op_id]
+            if len(op.args) != len(names):
+                continue
+            extended = dict(env)
+            if all(_unify(n, a, extended) for n, a in zip(names, op.args)):
+                yield from walk(i + 1, extended, chosen + [op_id])
+
+    yield from walk(0, dict(binding), [])
+
+
+def _unify(term: str, value: str, env: Dict[str, str]) -> bool:
+    if not term.startswith("?"):
+        return term == value
+    if term in env:
+        return env[term] == value
+    env[term] = value
+    return True
+
+
+def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], task: StripsTask,
+             objects) -> Optional[Operator]:
+    pre, neg = _precondition(mechanism, binding, task, objects)
+    if pre is None:
+        return None
+    added = deleted = 0
+    for op_id in step_ids:
+        op = task.operators[op_id]
+        if op.pre & deleted or op.neg & added:
+            return None  # a step needs what an earlier step undid
+        pre |= op.pre & ~added
+        neg |= op.neg & ~deleted
+        added = (added & ~op.delete) | op.add
+        deleted = (deleted & ~op.add) | op.delete
+    if pre & neg:
+        return None
+    return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids))
+
+
+def _precondition(mechanism: Mechanism, binding, task: StripsTask, objects) -> Tuple[Optional[int], int]:
+    """The mechanism's own precondition as masks (its first satisfiable disjunct)."""
+    for conjunct in dnf(substitute(mechanism.precondition, binding), objects):
+        pre = neg = 0
+        ok = True
+        for lit in conjunct:
+            atom = lit.atom
+            if hasattr(atom, "predicate"):
+                fact = (atom.predicate,) + tuple(t.name for t in atom.args)
+                if fact in task.fact_ids:
+                    if lit.positive:
+                        pre |= 1 << task.fact_ids[fact]
+                    else:
+                        neg |= 1 << task.fact_ids[fact]
+                elif (fact in task.static_facts) != lit.positive:
+                    ok = False
+            else:
+                equal = atom.left.name == atom.right.name
+                ok = ok and equal == lit.positive
+        if ok:
+            return pre, neg
+    return None, 0

@@ -1,0 +1,110 @@
+"""Shapes of the world's bodies as trimesh meshes, for samplers: surfaces, normals, rays.
+
+A body's mesh is the union of its URDF collision parts (each convex) as one solid, in the
+link frame, cached per URDF and scale; `world_mesh` places it at the body's current pose.
+"""
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ElementTree
+from functools import lru_cache
+from typing import TYPE_CHECKING, Tuple
+
+import numpy as np
+import pybullet as p
+import trimesh
+
+if TYPE_CHECKING:
+    from ..world.world import World
+
+Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]
+
+
+def pose_matrix(pose: Pose) -> np.ndarray:
+    """4x4 homogeneous transform of a pose."""
+    matrix = np.eye(4)
+    matrix[:3, :3] = np.array(p.getMatrixFromQuaternion(pose[1])).reshape(3, 3)
+    matrix[:3, 3] = pose[0]
+    return matrix
+
+
+def matrix_pose(matrix: np.ndarray) -> Pose:
+    from scipy.spatial.transform import Rotation
+    quat = Rotation.from_matrix(matrix[:3, :3]).as_quat()
+    return tuple(float(v) for v in matrix[:3, 3]), tuple(float(v) for v in quat)
+
+
+@lru_cache(maxsize=256)
+def urdf_mesh(urdf: str, scale: float = 1.0) -> trimesh.Trimesh:
+    """The collision parts of a single-link URDF, concatenated, in the link frame."""
+    root = ElementTree.parse(urdf).getroot()
+    parts = []
+    for collision in root.iter("collision"):
+        mesh_el = collision.find("geometry/mesh")
+        if mesh_el is None:
+            continue
+        mesh = trimesh.load(os.path.join(os.path.dirname(urdf), mesh_el.get("filename")), force="mesh")
+        origin = collision.find("origin")
+        if origin is not None:
+            xyz = [float(v) for v in origin.get("xyz", "0 0 0").split()]
+            rpy = [float(v) for v in origin.get("rpy", "0 0 0").split()]
+            transform = np.eye(4)
+            transform[:3, :3] = np.array(p.getMatrixFromQuaternion(p.getQuaternionFromEuler(rpy))).reshape(3, 3)
+            transform[:3, 3] = xyz
+            mesh.apply_transform(transform)
+        parts.append(mesh)
+    if not parts:
+        raise ValueError(f"{urdf}: no mesh collision elements")
+    mesh = trimesh.util.concatenate(parts)
+    mesh.apply_scale(scale)
+    return mesh
+
+
+@lru_cache(maxsize=256)
+def solid_mesh(urdf: str, scale: float = 1.0) -> trimesh.Trimesh:
+    """The union of a URDF's convex collision parts as one watertight solid (shared; do not
+    modify). The concatenated parts of `urdf_mesh` keep the faces where parts overlap or
+    touch (a table's leg tops under its top), which would stop rays, offer hidden upward
+    faces, and yield points inside the object."""
+    mesh = urdf_mesh(urdf, scale)
+    parts = [part.convex_hull for part in mesh.split(only_watertight=False)]  # parts are convex
+    if len(parts) == 1:
+        return parts[0]
+    try:
+        solid = trimesh.boolean.union(parts, engine="manifold")
+        if solid.is_watertight and len(solid.faces):
+            return solid
+    except Exception:  # noqa: BLE001 - no boolean engine: fall back to the raw parts
+        pass
+    return mesh
+
+
+def body_parts(world: "World", name: str) -> trimesh.Trimesh:
+    """The body's convex collision parts, concatenated, in its link frame (shared)."""
+    body = world.bodies[name]
+    return urdf_mesh(body.urdf, body.scale)
+
+
+def body_mesh(world: "World", name: str) -> trimesh.Trimesh:
+    """The body's solid (parts unioned) in its link frame (shared; do not modify)."""
+    body = world.bodies[name]
+    return solid_mesh(body.urdf, body.scale)
+
+
+def world_mesh(world: "World", name: str) -> trimesh.Trimesh:
+    """A copy of the body's mesh at its current pose."""
+    mesh = body_mesh(world, name).copy()
+    mesh.apply_transform(pose_matrix(world.pose(name)))
+    return mesh
+
+
+def sample_surface(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+    """`count` points on the surface, area-weighted, with their outward face normals."""
+    areas = mesh.area_faces
+    faces = rng.choice(len(areas), size=count, p=areas / areas.sum())
+    u, v = rng.random(count), rng.random(count)
+    flip = u + v > 1
+    u[flip], v[flip] = 1 - u[flip], 1 - v[flip]
+    triangles = mesh.triangles[faces]
+    points = triangles[:, 0] + u[:, None] * (triangles[:, 1] - triangles[:, 0]) + v[:, None] * (triangles[:, 2] - triangles[:, 0])
+    return points, mesh.face_normals[faces]

@@ -1,0 +1,162 @@
+"""The generic placement sampler P(O1, O2, T_o2) (paper Appendix "Samplers for Generic Operations").
+
+A resting face (a facet of the held object's convex hull, normal n1) is put against a
+surface point p2 of the support whose normal n2 points up (n2 . z > up_cos, so slopes
+count): n1 is turned onto -n2 with a random twist about n2, and the object is lowered to
+`GAP` above the plane through p2. The candidate must not sink into anything, and the arm
+holding it there (and at a pre-place pose above) must be reachable and collision-free.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import TYPE_CHECKING, Iterator, List, Optional, Tuple
+
+import numpy as np
+import pybullet as p
+import trimesh
+from scipy.spatial.transform import Rotation
+
+from ..world.collision import PENETRATION, CollisionChecker
+from .geometry import Pose, matrix_pose, pose_matrix, sample_surface
+from .geometry import solid_mesh
+from .grasp import IK_RESTARTS
+from .types import Placement
+
+if TYPE_CHECKING:
+    from ..world.world import World
+
+GAP = 0.002          # metres between the resting face and the support plane
+PRE_PLACE = 0.08     # metres above the placement (world z)
+SINK = 0.001         # deeper penetration of the object at the placement pose rejects it
+
+Facet = Tuple[np.ndarray, np.ndarray, float]  # outward normal, centre, area (object frame)
+
+
+@lru_cache(maxsize=128)
+def resting_facets(urdf: str, scale: float, com: Tuple[float, float, float]) -> Tuple[List[Facet], np.ndarray]:
+    """The convex hull's facets the object can rest on (its centre of mass projects inside
+    them: it would tip over from the others), and the hull's vertices."""
+    hull = solid_mesh(urdf, scale).convex_hull
+    grouped = {int(f) for facet in hull.facets for f in facet}
+    groups = [np.asarray(f) for f in hull.facets] + [np.array([f]) for f in range(len(hull.faces)) if f not in grouped]
+    facets: List[Facet] = []
+    for faces in groups:
+        normal = hull.face_normals[faces[0]]
+        areas = hull.area_faces[faces]
+        centre = (hull.triangles_center[faces] * areas[:, None]).sum(axis=0) / areas.sum()
+        # Project the centre of mass onto the facet plane and test it against its triangles.
+        foot = np.asarray(com) - np.dot(np.asarray(com) - centre, normal) * normal
+        bary = trimesh.triangles.points_to_barycentric(hull.triangles[faces], np.tile(foot, (len(faces), 1)))
+        stable = bool(np.any(np.all(bary >= -1e-6, axis=1)))
+        if stable:
+            facets.append((normal, centre, float(areas.sum())))
+    return facets, np.asarray(hull.vertices)
+
+
+def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A rotation matrix taking unit vector `a` onto unit vector `b`."""
+    axis = np.cross(a, b)
+    sin, cos = np.linalg.norm(axis), float(np.dot(a, b))
+    if sin < 1e-9:
+        if cos > 0:
+            return np.eye(3)
+        other = np.eye(3)[int(np.argmin(np.abs(a)))]  # opposite: half a turn about any perpendicular
+        axis = np.cross(a, other)
+        return Rotation.from_rotvec(np.pi * axis / np.linalg.norm(axis)).as_matrix()
+    return Rotation.from_rotvec(axis / sin * np.arctan2(sin, cos)).as_matrix()
+
+
+def up_surface(world: "World", support: str, up_cos: float) -> Optional[trimesh.Trimesh]:
+    """The support's faces (world frame) whose normal is within acos(up_cos) of +z."""
+    body = world.bodies[support]
+    mesh = solid_mesh(body.urdf, body.scale).copy()
+    mesh.apply_transform(pose_matrix(world.pose(support)))
+    up = np.nonzero(mesh.face_normals[:, 2] > up_cos)[0]
+    return mesh.submesh([up], append=True) if len(up) else None
+
+
+def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, point: np.ndarray,
+                support_normal: np.ndarray, twist: float) -> np.ndarray:
+    """4x4 object pose with its facet (`normal`, `centre`) against the plane through `point`
+    with normal `support_normal`, `GAP` above it, twisted by `twist` about that normal."""
+    rotation = Rotation.from_rotvec(twist * support_normal).as_matrix() @ align(normal, -support_normal)
+    lowest = float(np.min((vertices - centre) @ rotation.T @ support_normal))  # ~0: the facet is on the hull
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation
+    matrix[:3, 3] = point + (GAP - lowest) * support_normal - rotation @ centre
+    return matrix
+
+
+def sinks(world: "World", obj: str, pose: Pose) -> bool:
+    """Would `obj` at `pose` penetrate any body (the robot holding it aside)?"""
+    world.set_pose(obj, pose)
+    obj_id = world.bodies[obj].id
+    for name, body in world.bodies.items():
+        if name == obj:
+            continue
+        points = p.getClosestPoints(obj_id, body.id, 0.0, physicsClientId=world.client)
+        if any(c[8] < -SINK for c in points):
+            return True
+    return False
+
+
+def placement_configurations(world: "World", placement: Placement, rng: np.random.Generator
+                             ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """(pre-place, place) arm configurations holding the object at `placement.pose` with the
+    current grasp, or None if either has no IK or collides. Only the held object may touch
+    the support: the arm may not, and neither may touch anything else. (How deep the object
+    sinks into the support is not checked here: `sinks` checks the exact pose for that.)"""
+    kin, held = world.kinematics, world.attachment
+    if held is None or held.name != placement.object:
+        raise ValueError(f"placing '{placement.object}' requires holding it")
+    tcp = p.multiplyTransforms(*placement.pose, *world.held_tcp_in_object())
+    q = kin.ik(tcp[0], tcp[1], rng, seed=world.arm(), restarts=IK_RESTARTS)
+    if q is None:
+        return None
+    held_id, support_id = world.bodies[held.name].id, world.bodies[placement.support].id
+    with world.saved():
+        if CollisionChecker(world, check_held=False).collides(q):  # the arm against everything
+            return None
+        # Contacts of that detection are still current: the held object may touch the support
+        # (the IK tolerance may lower it past the gap) but nothing else.
+        for contact in p.getContactPoints(bodyA=held_id, physicsClientId=world.client):
+            if contact[8] < -PENETRATION and contact[2] not in (world.robot, support_id):
+                return None
+        above = (tcp[0][0], tcp[0][1], tcp[0][2] + PRE_PLACE)
+        q_pre = kin.ik(above, tcp[1], rng, seed=q)
+        if q_pre is None or CollisionChecker(world).collides(q_pre):
+            return None
+    return q_pre, q
+
+
+def sample_placements(world: "World", obj: str, support: str, rng: np.random.Generator,
+                      max_attempts: int = 300, up_cos: float = 0.85) -> Iterator[Placement]:
+    """Collision-free, reachable placements of the held `obj` on `support`'s upward faces;
+    stops after `max_attempts` candidates."""
+    if world.attachment is None or world.attachment.name != obj:
+        raise ValueError(f"placing '{obj}' requires holding it")
+    body = world.bodies[obj]
+    facets, vertices = resting_facets(body.urdf, body.scale, tuple(float(v) for v in body.inertial[0]))
+    if not facets:
+        return
+    weights = np.array([f[2] for f in facets])
+    weights /= weights.sum()
+    surface, surface_at = None, None
+    for _ in range(max_attempts):
+        if world.pose(support) != surface_at:  # the caller may move things between yields
+            surface_at = world.pose(support)
+            surface = up_surface(world, support, up_cos)
+        if surface is None:
+            return
+        points, normals = sample_surface(surface, 1, rng)
+        point, support_normal = points[0], normals[0]
+        normal, centre, _ = facets[int(rng.choice(len(facets), p=weights))]
+        matrix = object_pose(normal, centre, vertices, point, support_normal, rng.uniform(-np.pi, np.pi))
+        candidate = Placement(obj, support, matrix_pose(matrix), tuple(float(v) for v in support_normal))
+        # Cheap, before any IK, and the only check of the object against the support itself
+        # (a point on a bowl's floor by its wall would otherwise put the object in the wall).
+        with world.saved():
+            if sinks(world, obj, candidate.pose):
+                continue
+        if placement_configurations(world, candidate, rng) is not None:
+            yield candidate

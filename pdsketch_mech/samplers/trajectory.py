@@ -1,0 +1,96 @@
+"""Trajectory sampler T: arm motions for grasps, placements, free/held moves and pushes.
+
+A motion is an RRTConnect path to a *pre-pose* (backed off from the target), then a
+straight Cartesian segment to the target (the approach of a grasp, the descent of a
+placement) — or, for a push, a straight segment along the push direction by a distance
+d ~ U[0.05, 0.25] m past first contact (Appendix A.4). Retreats are planned by the
+operators after the contact changes (they depend on the simulated outcome).
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Iterator, Optional, Sequence
+
+import numpy as np
+import pybullet as p
+
+from ..world.motion import cartesian_path, plan_motion
+from .types import Contact, Grasp, Placement, Pose, Trajectory
+
+if TYPE_CHECKING:
+    from ..world.world import World
+
+PRE_DISTANCE = 0.08       # metres between a pre-pose and its target
+PUSH_RANGE = (0.05, 0.25)  # metres of push past first contact
+BACK_OFF = 0.05           # metres a push starts behind first contact
+
+
+def compose(a: Pose, b: Pose) -> Pose:
+    pos, orn = p.multiplyTransforms(a[0], a[1], b[0], b[1])
+    return tuple(pos), tuple(orn)
+
+
+def _approach_axis(tcp: Pose) -> np.ndarray:
+    return np.array(p.getMatrixFromQuaternion(tcp[1])).reshape(3, 3)[:, 2]
+
+
+def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], final_distance: float,
+            rng: np.random.Generator, kind: str, ignore: Sequence[str] = (), timeout: float = 1.0,
+            push_distance: Optional[float] = None) -> Optional[Trajectory]:
+    """RRT to `goal_tcp` moved back by `final_distance` along `final_direction`, then the
+    straight segment forward."""
+    direction = np.asarray(final_direction, dtype=float)
+    direction /= np.linalg.norm(direction)
+    pre = (tuple(np.asarray(goal_tcp[0]) - direction * final_distance), goal_tcp[1])
+    start = world.arm()
+    q_pre = world.kinematics.ik(pre[0], pre[1], rng, seed=start)
+    if q_pre is None:
+        return None
+    result = plan_motion(world, start, q_pre, ignore=ignore, timeout=timeout, seed=int(rng.integers(1 << 30)))
+    if result.path is None:
+        return None
+    final = cartesian_path(world, q_pre, direction, final_distance + (push_distance or 0.0), rng)
+    if final is None:
+        return None
+    return Trajectory(kind, result.path, final[1:], push_distance=push_distance)
+
+
+def grasp_motion(world: "World", obj: str, grasp: Grasp, rng: np.random.Generator) -> Optional[Trajectory]:
+    """To the pre-grasp, then along the approach axis to the grasp."""
+    tcp = compose(world.pose(obj), grasp.in_object)
+    return _motion(world, tcp, _approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
+
+
+def place_motion(world: "World", placement: Placement, rng: np.random.Generator) -> Optional[Trajectory]:
+    """Carrying the held object to above the placement, then down along the support normal."""
+    tcp = compose(placement.pose, world.held_tcp_in_object())
+    down = -np.asarray(placement.support_normal, dtype=float)
+    return _motion(world, tcp, down, PRE_DISTANCE, rng, "place")
+
+
+def push_motion(world: "World", contact: Contact, rng: np.random.Generator) -> Optional[Trajectory]:
+    """To just behind first contact, then along the push direction by d ~ U[0.05, 0.25] m."""
+    tcp = contact.pusher_pose if contact.pusher is None else compose(contact.pusher_pose, world.held_tcp_in_object())
+    distance = float(rng.uniform(*PUSH_RANGE))
+    return _motion(world, tcp, contact.direction, BACK_OFF, rng, "push", push_distance=distance)
+
+
+def free_motion(world: "World", rng: np.random.Generator, kind: str = "free",
+                max_attempts: int = 20) -> Optional[Trajectory]:
+    """To a random collision-free configuration with the gripper above the table."""
+    down = tuple(p.getQuaternionFromEuler((np.pi, 0.0, float(rng.uniform(-np.pi, np.pi)))))
+    for _ in range(max_attempts):
+        target = (float(rng.uniform(0.3, 0.6)), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(0.15, 0.35)))
+        q = world.kinematics.ik(target, down, rng, seed=world.arm())
+        if q is None:
+            continue
+        result = plan_motion(world, world.arm(), q, timeout=0.5, seed=int(rng.integers(1 << 30)))
+        if result.path is not None:
+            return Trajectory(kind, result.path)
+    return None
+
+
+def sample_free_motions(world: "World", rng: np.random.Generator, kind: str = "free") -> Iterator[Trajectory]:
+    for _ in range(5):
+        motion = free_motion(world, rng, kind)
+        if motion is not None:
+            yield motion
