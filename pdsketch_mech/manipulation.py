@@ -66,7 +66,8 @@ def summary(result: PlanResult) -> str:
     samples = ", ".join(f"{k} {v}" for k, v in s["samples"].items()) or "none"
     head = (f"solved: {len(result.steps)} steps" if result.status == "solved" else f"unsolved: {result.reason}")
     return (f"{head} in {result.time_s:.2f} s ({s['symbolic_s']:.2f} s symbolic, {s['continuous_s']:.2f} s "
-            f"sampling and simulation); {s['skeletons']} skeletons, {s['executions']} executed steps; "
+            f"sampling and simulation); {s['skeletons']} skeletons, {s['executions']} executed steps, "
+            f"{s['sim_steps']} physics steps; "
             f"samples: {samples}")
 
 

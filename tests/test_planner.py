@@ -134,3 +134,16 @@ def test_replay_command(tmp_path, capsys):
     assert replay_command.main([problem_path("pick"), str(out)]) == 1
     out.write_text("{not json")
     assert replay_command.main([problem_path("pick"), str(out)]) == 2
+
+
+def test_same_seed_same_plan_across_processes(tmp_path):
+    import subprocess
+    import sys
+    documents = []
+    for i in range(2):
+        out = tmp_path / f"plan{i}.json"
+        subprocess.run([sys.executable, "-m", "pdsketch_mech.plan", BASIS, problem_path("stack"), "--seed", "5",
+                        "--json", str(out)], cwd=ROOT, check=True, capture_output=True)
+        documents.append(json.loads(out.read_text()))
+    assert documents[0]["plan"] == documents[1]["plan"] and documents[0]["status"] == "solved"
+    assert documents[0]["stats"]["sim_steps"] > 0

@@ -62,6 +62,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     initial = world.snapshot()
     stats: Dict[str, object] = {"skeletons": 0, "samples": counts, "operators": len(task.operators),
                                 "executions": 0, "symbolic_s": 0.0, "continuous_s": 0.0}
+    sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
         stats["warning"] = mismatch
@@ -88,6 +89,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 values = refinement.run(min(deadline, time.perf_counter() + budget))
                 stats["continuous_s"] += time.perf_counter() - t0
                 if values is not None:
+                    stats["sim_steps"] = world.sim_steps - sim_start
                     return _result("solved", refinement, values, start, stats, failures + refinement.failures)
                 if refinement.exhausted:
                     active.remove(refinement)
@@ -99,6 +101,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     for refinement in active:
         failures += refinement.failures
         stats["executions"] += refinement.executions
+    stats["sim_steps"] = world.sim_steps - sim_start
     reason = "timed out" if time.perf_counter() >= deadline else "no skeleton could be refined"
     return PlanResult("unsolved", time_s=time.perf_counter() - start, stats=_finish_stats(stats, failures),
                       reason=reason)

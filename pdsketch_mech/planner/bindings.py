@@ -80,7 +80,7 @@ class StepSampler:
     def samples(self, world: World, args: Sequence[str], rng: np.random.Generator,
                 per_value: int = 1) -> Iterator[Dict[str, object]]:
         """Assignments {placeholder: value} for the placeholders among `args`."""
-        needed = sorted({a for a in args if is_placeholder(a)}, key=lambda a: self.placeholders[a].level)
+        needed = sorted({a for a in args if is_placeholder(a)}, key=lambda a: (self.placeholders[a].level, a))
         yield from self._assign(world, needed, {}, rng, per_value, root=True)
 
     def _assign(self, world, needed: List[str], values: Dict[str, object], rng, per_value: int, root: bool):

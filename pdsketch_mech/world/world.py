@@ -65,6 +65,7 @@ class World:
         self.kinematics = Kinematics(robot_base)
         self.bodies: Dict[str, Body] = {}
         self.attachment: Optional[Attachment] = None
+        self.sim_steps = 0  # physics steps simulated, for statistics
         self.arm_targets = np.array(HOME)
         self.finger_target = MAX_OPENING / 2
         self.set_arm(HOME)
@@ -240,6 +241,7 @@ class World:
         self._hold_position()
         for _ in range(steps):
             p.stepSimulation(physicsClientId=self.client)
+        self.sim_steps += steps
 
     def settle(self, max_steps: int = 480, linear_tol: float = 2e-3, angular_tol: float = 2e-2,
                quiet_steps: int = 10) -> int:
