@@ -9,7 +9,6 @@ from pdsketch_mech.lang.typecheck import check_domain, check_problem
 from pdsketch_mech.symbolic.grounding import ground
 from pdsketch_mech.symbolic.heuristic import INFINITY, FFHeuristic
 from pdsketch_mech.symbolic.optimistic import optimistic_problem
-from pdsketch_mech.symbolic.search import greedy_search, weighted_astar
 from pdsketch_mech.symbolic.skeletons import iter_skeletons
 from pdsketch_mech.symbolic.solve import solve
 from pdsketch_mech.symbolic.validate import validate_plan

@@ -8,15 +8,15 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
-import re
 import tempfile
-from typing import Iterable, List, Optional, Tuple, Union
+from typing import Union
 
 import lark
 from lark import Lark, Token, Transformer, v_args
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+from lark.exceptions import UnexpectedInput, VisitError
 
 from .errors import PddlError, did_you_mean
+from .syntax_errors import syntax_error
 from .nodes import (
     Action, ActionCall, And, Atom, Const, Domain, Equals, Exists, Forall, Imply, Loc, Mechanism,
     Not, Or, Predicate, Problem, SceneEntry, SceneProp, Stream, Symbol, TypedName, Var, When,
@@ -28,12 +28,6 @@ KNOWN_REQUIREMENTS = frozenset({
     ":conditional-effects", ":adl", ":streams", ":mechanisms", ":scenes",
 })
 
-# How terminals are named in messages ("expected ')' or a variable").
-_TERMINAL_WORDS = {
-    "NAME": "a name", "VARIABLE": "a variable", "REQUIREMENT": "a requirement such as :strips",
-    "KEYWORD": "a property such as :asset", "NUMBER": "a number", "STRING": 'a "string"',
-    "$END": "end of file", "<END-OF-FILE>": "end of file",
-}
 
 
 _GRAMMAR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "grammar.lark")
@@ -73,7 +67,7 @@ def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:
     try:
         tree = _lark().parse(text)
     except UnexpectedInput as exc:
-        raise _syntax_error(exc, text, file) from None
+        raise syntax_error(exc, text, file, _lark().terminals) from None
     try:
         return _ToNodes(file).transform(tree)
     except VisitError as exc:
@@ -92,84 +86,6 @@ def parse_file(path: str) -> Union[Domain, Problem]:
     except UnicodeDecodeError:
         raise PddlError("cannot read file: not UTF-8 text", file=path) from None
     return parse_text(text, path)
-
-
-# ----------------------------------------------------------------------------- errors
-def _describe_terminal(name: str) -> str:
-    if name in _TERMINAL_WORDS:
-        return _TERMINAL_WORDS[name]
-    for terminal in _lark().terminals:
-        if terminal.name == name and terminal.pattern.type == "str":
-            return f"'{terminal.pattern.value}'"
-    return name.lower()
-
-
-def _expected_words(names: Iterable[str]) -> List[str]:
-    return sorted({_describe_terminal(n) for n in names})
-
-
-def _one_of(words: List[str]) -> str:
-    if len(words) > 12:
-        return "one of " + ", ".join(words[:12]) + f", ... ({len(words) - 12} more)"
-    return ("one of " + ", ".join(words)) if len(words) > 1 else (words[0] if words else "nothing")
-
-
-def _open_parens(text: str) -> List[int]:
-    """Offsets of the '(' still open at the end of `text` (comments and strings skipped)."""
-    stack: List[int] = []
-    in_comment = in_string = False
-    for index, char in enumerate(text):
-        if in_comment:
-            in_comment = char != "\n"
-        elif in_string:
-            in_string = char != '"'
-        elif char == ";":
-            in_comment = True
-        elif char == '"':
-            in_string = True
-        elif char == "(":
-            stack.append(index)
-        elif char == ")" and stack:
-            stack.pop()
-    return stack
-
-
-def _line_col(text: str, offset: int) -> Tuple[int, int]:
-    return text.count("\n", 0, offset) + 1, offset - (text.rfind("\n", 0, offset) + 1) + 1
-
-
-def _syntax_error(exc: UnexpectedInput, text: str, file: str) -> PddlError:
-    at_end = isinstance(exc, UnexpectedEOF) or (
-        isinstance(exc, UnexpectedToken) and exc.token.type == "$END")
-    if at_end:
-        opened = _open_parens(text)
-        where = ""
-        if opened:
-            line, col = _line_col(text, opened[-1])
-            where = f"; the '(' at line {line}, column {col} is never closed"
-        line, col = _line_col(text, len(text.rstrip("\n")))
-        return PddlError(f"unexpected end of file{where}", Loc(file, line, col))
-
-    loc = Loc(file, exc.line, exc.column)
-    # LALR merges look-ahead sets across states; accepts() replays the parse per terminal,
-    # so an action's error does not also offer a stream's ':inputs'.
-    parser = getattr(exc, "interactive_parser", None)
-    if isinstance(exc, UnexpectedToken):
-        expected, word, kind = exc.expected, str(exc.token), exc.token.type
-    else:
-        expected, kind = exc.allowed, None
-        word = re.match(r"[^\s()]*", text[exc.pos_in_stream:]).group(0) or text[exc.pos_in_stream]
-    if word.startswith('"'):
-        return PddlError("unterminated string: a string must end on the line it starts", loc)
-    if word.lower() == ":functions":
-        return PddlError("numeric fluents (:functions) are not supported", loc)
-    if set(expected) <= {"$END", "<END-OF-FILE>"}:
-        return PddlError(f"unexpected '{word}' after the end of the definition", loc)
-
-    words = _expected_words(parser.accepts() if parser is not None else expected)
-    hint = did_you_mean(word.lower(), [w.strip("'") for w in words if w.startswith("'")])
-    shown = {"NAME": f"name '{word}'", "VARIABLE": f"variable '{word}'"}.get(kind, f"'{word}'")
-    return PddlError(f"unexpected {shown}{hint}; expected {_one_of(words)}", loc)
 
 
 # ----------------------------------------------------------------------------- tree -> nodes

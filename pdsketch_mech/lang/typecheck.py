@@ -11,7 +11,7 @@ from typing import Dict, Iterable, Mapping, Optional, Sequence
 
 from .errors import PddlError, did_you_mean
 from .nodes import (
-    Action, ActionCall, And, Atom, Const, Domain, Equals, Exists, Forall, Formula, Imply, Loc,
+    Action, ActionCall, And, Atom, Domain, Equals, Exists, Forall, Formula, Imply, Loc,
     Mechanism, Not, Or, Predicate, Problem, Stream, Term, TypedName, Var, When,
 )
 from .scene import build_scene

@@ -12,7 +12,7 @@ from collections import defaultdict
 from itertools import product
 from typing import Dict, Iterator, List, Optional, Sequence, Tuple
 
-from ..lang.nodes import Const, Domain, Mechanism, Problem, Var
+from ..lang.nodes import Domain, Mechanism, Problem, Var
 from ..lang.typecheck import TypeTable
 from ..symbolic.grounding import objects_by_type
 from ..symbolic.normalize import dnf, substitute

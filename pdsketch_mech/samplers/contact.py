@@ -22,7 +22,7 @@ from scipy.spatial.transform import Rotation
 
 from ..world.collision import CollisionChecker
 from ..world.robot import CLOSED
-from .geometry import body_mesh, matrix_pose, pose_matrix
+from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .types import Contact
 
 if TYPE_CHECKING:
@@ -59,13 +59,7 @@ def _face_weights(mesh: trimesh.Trimesh) -> np.ndarray:
 
 def surface_points(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
     """`count` surface points (mesh frame) with outward normals, drawn by `_face_weights`."""
-    faces = rng.choice(len(mesh.faces), size=count, p=_face_weights(mesh))
-    u, v = rng.random(count), rng.random(count)
-    flip = u + v > 1
-    u[flip], v[flip] = 1 - u[flip], 1 - v[flip]
-    tri = mesh.triangles[faces]
-    points = tri[:, 0] + u[:, None] * (tri[:, 1] - tri[:, 0]) + v[:, None] * (tri[:, 2] - tri[:, 0])
-    return points, mesh.face_normals[faces]
+    return sample_surface(mesh, count, rng, _face_weights(mesh))
 
 
 def support_frame(world: "World", target: str, support: str) -> Tuple[np.ndarray, np.ndarray]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 import xml.etree.ElementTree as ElementTree
 from functools import lru_cache
-from typing import TYPE_CHECKING, Tuple
+from typing import TYPE_CHECKING, Optional, Tuple
 
 import numpy as np
 import pybullet as p
@@ -98,10 +98,13 @@ def world_mesh(world: "World", name: str) -> trimesh.Trimesh:
     return mesh
 
 
-def sample_surface(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
-    """`count` points on the surface, area-weighted, with their outward face normals."""
-    areas = mesh.area_faces
-    faces = rng.choice(len(areas), size=count, p=areas / areas.sum())
+def sample_surface(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator,
+                   weights: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
+    """`count` points on the surface with their outward face normals; faces are drawn with
+    probabilities `weights` (default: proportional to area)."""
+    if weights is None:
+        weights = mesh.area_faces / mesh.area_faces.sum()
+    faces = rng.choice(len(mesh.faces), size=count, p=weights)
     u, v = rng.random(count), rng.random(count)
     flip = u + v > 1
     u[flip], v[flip] = 1 - u[flip], 1 - v[flip]
