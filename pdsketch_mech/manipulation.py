@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from typing import Any, Dict, List
 
 from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error
@@ -20,7 +21,8 @@ from .world.motion import seed_motion_planning
 from .world.render import save_gif
 
 
-def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: Problem) -> int:
+def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: Problem, started: float) -> int:
+    """Plan within `args.timeout` seconds counted from `started` (time.perf_counter())."""
     if problem.scene is None:
         print_error(PddlError(f"problem '{problem.name}' has no :scene; domain '{loaded.domain.name}' has "
                               "streams, so the planner needs the physical scene", problem.loc))
@@ -32,7 +34,8 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         print_error(error)
         return EXIT_BAD_INPUT
     with world:
-        result = bilevel_plan(loaded, problem, world, timeout=args.timeout, seed=args.seed,
+        remaining = max(0.1, args.timeout - (time.perf_counter() - started))
+        result = bilevel_plan(loaded, problem, world, timeout=remaining, seed=args.seed,
                               use_mechanisms=not args.basis_only)
     entries = plan_entries(result)
     for entry in entries:

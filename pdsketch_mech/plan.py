@@ -49,6 +49,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
+    started = time.perf_counter()  # the time limit covers loading and world building too
     args = _parser().parse_args(argv)
     if args.timeout <= 0:
         print("error: --timeout must be positive", file=sys.stderr)
@@ -63,7 +64,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return _print_skeletons(loaded, problem, args.skeletons, args.timeout)
     if loaded.domain.streams:
         from .manipulation import plan_manipulation  # imports PyBullet and torch-free samplers
-        return plan_manipulation(args, loaded, problem)
+        return plan_manipulation(args, loaded, problem, started)
     result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, args.timeout)
     for name, plan_args in result.plan:
         print(f"({' '.join((name,) + plan_args)})")
