@@ -175,3 +175,10 @@ def test_hook_use_skeleton_is_enumerated_with_basis_operators():
     assert names[0] == ("grasp box table",)
     hook = ("grasp hook table", "move-cont hook box table", "place hook table", "grasp box table")
     assert hook in names
+
+
+def test_grounding_respects_the_deadline():
+    loaded, prob = load_problem(os.path.join(DATA, "ipc", "logistics00", "problem03.pddl"))
+    result = solve(loaded.domain, prob, loaded.types, timeout=0.005)
+    assert result.status == "timeout" and result.plan == []
+    assert result.time_s < 1.0  # grounding this task takes ~0.1 s; it stopped at the deadline

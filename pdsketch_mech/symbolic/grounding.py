@@ -7,6 +7,7 @@ atoms bound to a fact that was new in the previous round.
 """
 from __future__ import annotations
 
+import time
 from collections import defaultdict
 from dataclasses import dataclass
 from itertools import product
@@ -15,7 +16,7 @@ from typing import Dict, Iterator, List, Mapping, Optional, Sequence, Set, Tuple
 from ..lang.nodes import Atom, Const, Domain, Equals, Problem, Var
 from ..lang.typecheck import TypeTable
 from .normalize import Conjunction, EffectPart, Literal, dnf, flatten_effect
-from .task import ConditionalEffect, Fact, Operator, StripsTask
+from .task import ConditionalEffect, Fact, Operator, StripsTask, Timeout
 
 Binding = Dict[str, str]
 
@@ -57,7 +58,8 @@ def objects_by_type(domain: Domain, problem: Problem, types: TypeTable) -> Dict[
     return {t: [name for name, obj_type in declared if types.is_subtype(obj_type, t)] for t in types.parents}
 
 
-def ground(domain: Domain, problem: Problem, types: TypeTable, prune_irrelevant: bool = True) -> StripsTask:
+def ground(domain: Domain, problem: Problem, types: TypeTable, prune_irrelevant: bool = True,
+           deadline: Optional[float] = None) -> StripsTask:
     """Ground a type-checked domain and problem into a STRIPS task.
 
     `prune_irrelevant` drops operators that cannot help reach the goal symbolically; the
@@ -80,6 +82,8 @@ def ground(domain: Domain, problem: Problem, types: TypeTable, prune_irrelevant:
     while delta is None or delta:
         new_facts: List[Fact] = []
         for rule_id, rule in enumerate(rules):
+            if deadline is not None and time.perf_counter() > deadline:
+                raise Timeout
             for binding in _rule_bindings(rule, index, objects, members, static, fluent, delta):
                 key = (rule_id, tuple(binding[v] for v, _ in rule.params))
                 if key in found:

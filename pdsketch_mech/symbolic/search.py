@@ -8,13 +8,9 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
 from .heuristic import INFINITY, FFHeuristic
-from .task import StripsTask, bits
+from .task import StripsTask, Timeout, bits
 
 PREFERRED_BOOST = 1000  # as in Fast Downward: on progress, favour the preferred queue
-
-
-class Timeout(Exception):
-    """Raised inside a search when its deadline passes."""
 
 
 @dataclass

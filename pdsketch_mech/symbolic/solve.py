@@ -10,6 +10,7 @@ from ..lang.typecheck import TypeTable
 from .grounding import ground
 from .heuristic import FFHeuristic
 from .search import SearchResult, greedy_search, weighted_astar
+from .task import Timeout
 
 SEARCHES = ("gbfs", "wastar")
 Step = Tuple[str, Tuple[str, ...]]
@@ -30,7 +31,12 @@ def solve(domain: Domain, problem: Problem, types: TypeTable, search: str = "gbf
         raise ValueError(f"unknown search '{search}'; expected one of {', '.join(SEARCHES)}")
     start = time.perf_counter()
     deadline = None if timeout is None else start + timeout
-    task = ground(domain, problem, types)
+    try:
+        task = ground(domain, problem, types, deadline=deadline)
+    except Timeout:
+        return ClassicalResult("timeout", [], time.perf_counter() - start,
+                               {"facts": 0, "operators": 0, "expansions": 0, "evaluations": 0, "generated": 0,
+                                "ground_s": round(time.perf_counter() - start, 6), "search_s": 0.0})
     grounded = time.perf_counter()
     heuristic = FFHeuristic(task)
     if search == "gbfs":

@@ -11,6 +11,10 @@ from typing import Dict, List, Sequence, Tuple
 Fact = Tuple[str, ...]  # ("on", "a", "b")
 
 
+class Timeout(Exception):
+    """Raised by grounding or search when their deadline passes."""
+
+
 @dataclass(frozen=True)
 class ConditionalEffect:
     pre: int
