@@ -147,3 +147,20 @@ def test_same_seed_same_plan_across_processes(tmp_path):
         documents.append(json.loads(out.read_text()))
     assert documents[0]["plan"] == documents[1]["plan"] and documents[0]["status"] == "solved"
     assert documents[0]["stats"]["sim_steps"] > 0
+
+
+def test_goal_already_true_gives_an_empty_plan(write_files, capsys):
+    text = open(problem_path("pick")).read().replace("(:goal (holding block))", "(:goal (support block table))")
+    (path,) = write_files(**{"p.pddl": text})
+    assert plan.main([BASIS, path, "--timeout", "30"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.startswith("solved: 0 steps")
+
+
+def test_scene_contradicting_init_is_reported(write_files, capsys):
+    text = open(problem_path("stack")).read().replace("(support a table)", "(support a b)")
+    (path,) = write_files(**{"p.pddl": text})
+    status = plan.main([BASIS, path, "--timeout", "5"])
+    err = capsys.readouterr().err
+    assert status == 1  # symbolically the goal holds at :init: the only skeleton is the empty plan, which the scene refutes
+    assert "warning: the scene and :init disagree: (support a b) is not true in the scene" in err

@@ -123,10 +123,11 @@ def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, obje
 
 def _initial_mismatch(task: StripsTask, world: World) -> Optional[str]:
     """The problem's :init and the simulated scene should agree on the contact graph."""
-    diff = (observed_state(task, world) ^ task.init) & contact_mask(task)
+    observed = observed_state(task, world)
+    diff = (observed ^ task.init) & contact_mask(task)
     if not diff:
         return None
     facts = [task.facts[i] for i in range(len(task.facts)) if diff >> i & 1]
-    shown = ", ".join("(" + " ".join(f) + ")" + (" holds in the scene" if observed_state(task, world) >> task.fact_ids[f] & 1
+    shown = ", ".join("(" + " ".join(f) + ")" + (" holds in the scene" if observed >> task.fact_ids[f] & 1
                                                   else " is not true in the scene") for f in facts[:4])
     return f"the scene and :init disagree: {shown}"

@@ -77,6 +77,10 @@ class Refinement:
     def run(self, deadline: float) -> Optional[List[Dict[str, object]]]:
         """Search until `deadline`; the values of every step if the skeleton is refined."""
         world = self.world
+        if not self.steps:  # the goal holds symbolically already: it must hold in the scene too
+            world.restore(self.start)
+            self.exhausted = bool((observed_state(self.task, world) ^ self.task.init) & self.observable)
+            return None if self.exhausted else []
         while not self.exhausted and time.perf_counter() < deadline:
             i = self.depth
             step = self.steps[i]
@@ -122,7 +126,7 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
     steps, state = [], task.init
     for op_id in plan:
         op = task.operators[op_id]
-        for basis_id in getattr(op, "steps", ()) or (op_id,):
+        for basis_id in op.steps or (op_id,):
             basis = task.operators[basis_id]
             state = task.successor(state, basis)
             steps.append(Step(basis.name, basis.args, state, op.name if basis_id != op_id else None))
