@@ -18,8 +18,6 @@ from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, run
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, load_domain, load_problem
 from .lang.nodes import Problem
-from .symbolic.grounding import ground
-from .symbolic.optimistic import optimistic_problem
 from .symbolic.skeletons import iter_skeletons
 from .symbolic.solve import SEARCHES, ClassicalResult, solve
 from .symbolic.validate import validate_plan
@@ -107,9 +105,10 @@ def _write_json(path: str, result: ClassicalResult, seed: int) -> None:
 
 
 def _print_skeletons(loaded: LoadedDomain, problem: Problem, count: int, timeout: float) -> int:
+    from .planner.bilevel import prepare_task  # the task the bilevel planner searches
+
     deadline = time.perf_counter() + timeout
-    optimistic, _ = optimistic_problem(loaded.domain, problem, loaded.types)
-    task = ground(loaded.domain, optimistic, loaded.types, prune_irrelevant=False)
+    task, _ = prepare_task(loaded, problem)
     found: List[str] = []
     for plan in iter_skeletons(task, deadline=deadline):
         found.append(" ".join(task.operators[o].label for o in plan))

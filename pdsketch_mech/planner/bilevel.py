@@ -39,11 +39,19 @@ class PlanResult:
     reason: str = ""
 
 
+# Operators that only move the arm through free space. Every operator plans its own
+# approach from wherever the arm is, so on their own these never enable anything; the
+# symbolic search skips them unless a mechanism lists them as steps.
+FREE_MOTIONS = ("transit", "move")
+
+
 def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = True):
-    """Optimistic problem, grounded task (nothing pruned: effect-free pushes matter), and
-    mechanisms as macro operators."""
+    """Optimistic problem, grounded task (not relevance-pruned: effect-free pushes matter),
+    and mechanisms as macro operators."""
     optimistic, placeholders = optimistic_problem(domain.domain, problem, domain.types)
     task = ground(domain.domain, optimistic, domain.types, prune_irrelevant=False)
+    steps = {call.name for m in domain.domain.mechanisms for call in m.actions} if use_mechanisms else set()
+    task.operators = [op for op in task.operators if op.name not in FREE_MOTIONS or op.name in steps]
     if use_mechanisms and domain.domain.mechanisms:
         add_mechanism_macros(task, domain.domain, domain.types, optimistic)
     return task, placeholders
