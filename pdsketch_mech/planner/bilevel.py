@@ -25,8 +25,8 @@ from .bindings import StepSampler
 from .macros import add_mechanism_macros
 from .refine import Refinement, Step, contact_mask, observed_state, skeleton_steps
 
-FIRST_SLICE = 1.5   # seconds a skeleton gets in its first round
-SLICE_GROWTH = 1.5
+FIRST_SLICE = 8     # simulated steps a skeleton gets in its first round (work, not seconds:
+SLICE_GROWTH = 1.5  # the interleaving, and so the plan, must not depend on machine speed)
 
 
 @dataclass
@@ -89,12 +89,15 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                     more = False
                 else:
                     stats["skeletons"] += 1
-                    active.append(Refinement(skeleton_steps(task, plan), initial, world, task, sampler, rng))
+                    # Each skeleton draws from its own generator, seeded in creation order.
+                    skeleton_rng = np.random.default_rng(rng.integers(1 << 63))
+                    active.append(Refinement(skeleton_steps(task, plan), initial, world, task, sampler,
+                                             skeleton_rng))
             if not active and not more:
                 break
             for refinement in list(active):
                 t0 = time.perf_counter()
-                values = refinement.run(min(deadline, time.perf_counter() + budget))
+                values = refinement.run(deadline, int(budget))
                 stats["continuous_s"] += time.perf_counter() - t0
                 if values is not None:
                     stats["sim_steps"] = world.sim_steps - sim_start

@@ -74,14 +74,17 @@ class Refinement:
         self.root_yields = 0
         self.observable = contact_mask(self.task)
 
-    def run(self, deadline: float) -> Optional[List[Dict[str, object]]]:
-        """Search until `deadline`; the values of every step if the skeleton is refined."""
+    def run(self, deadline: float, max_executions: int) -> Optional[List[Dict[str, object]]]:
+        """Search until `max_executions` more steps have been simulated (a unit of work, so
+        that how skeletons interleave does not depend on the machine's speed) or until
+        `deadline`; the values of every step if the skeleton is refined."""
         world = self.world
+        budget = self.executions + max_executions
         if not self.steps:  # the goal holds symbolically already: it must hold in the scene too
             world.restore(self.start)
             self.exhausted = bool((observed_state(self.task, world) ^ self.task.init) & self.observable)
             return None if self.exhausted else []
-        while not self.exhausted and time.perf_counter() < deadline:
+        while not self.exhausted and self.executions < budget and time.perf_counter() < deadline:
             i = self.depth
             step = self.steps[i]
             world.restore(self.snapshots[i])
