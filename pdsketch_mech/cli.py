@@ -1,9 +1,10 @@
 """Helpers shared by the command-line entry points (`python -m pdsketch_mech.X`)."""
 from __future__ import annotations
 
+import json
 import os
 import sys
-from typing import Callable
+from typing import Any, Callable, Dict, List
 
 from .lang.errors import PddlError
 
@@ -33,3 +34,13 @@ def run(main: Callable[[], int]) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+
+
+def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: int,
+                    plan: List[Dict[str, Any]], stats: Dict[str, Any]) -> None:
+    """The `plan --json` document of DESIGN.md, for classical and manipulation plans alike."""
+    document = {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
+                "plan": plan, "stats": stats}
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(document, handle, indent=1)
+        handle.write("\n")

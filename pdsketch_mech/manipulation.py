@@ -3,12 +3,11 @@ the plan, and optionally save it as JSON and as a GIF of its replay in a fresh w
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from typing import Any, Dict, List
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error
+from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, write_plan_json
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain
 from .lang.nodes import Problem
@@ -46,7 +45,8 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         print(f"warning: {result.stats['warning']}", file=sys.stderr)
     if args.json:
         try:
-            write_json(args.json, result, entries, args.seed)
+            write_plan_json(args.json, result.status, result.reason or result.status, result.time_s, args.seed,
+                            entries, result.stats)
         except OSError as exc:
             print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
             return EXIT_BAD_INPUT
@@ -72,11 +72,3 @@ def summary(result: PlanResult) -> str:
             f"sampling and simulation); {s['skeletons']} skeletons, {s['executions']} executed steps, "
             f"{s['sim_steps']} physics steps; "
             f"samples: {samples}")
-
-
-def write_json(path: str, result: PlanResult, entries: List[Dict[str, Any]], seed: int) -> None:
-    document = {"status": result.status, "reason": result.reason or result.status, "time_s": round(result.time_s, 4),
-                "seed": seed, "plan": entries, "stats": result.stats}
-    with open(path, "w", encoding="utf-8") as handle:
-        json.dump(document, handle, indent=1)
-        handle.write("\n")

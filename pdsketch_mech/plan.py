@@ -9,12 +9,11 @@ to the bilevel planner, which samples and simulates continuous parameters.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, run
+from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, run, write_plan_json
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, load_domain, load_problem
 from .lang.nodes import Problem
@@ -74,7 +73,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         status = status if check.ok else EXIT_UNSOLVED
     if args.json:
         try:
-            _write_json(args.json, result, args.seed)
+            write_plan_json(args.json, "solved" if result.status == "solved" else "unsolved", result.status,
+                            result.time_s, args.seed,
+                            [{"name": name, "args": list(a), "params": {}} for name, a in result.plan],
+                            {"skeletons": 1, "samples": {}, **result.stats})
         except OSError as exc:
             print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
             return EXIT_BAD_INPUT
@@ -88,20 +90,6 @@ def _summary(result: ClassicalResult) -> str:
     return (f"{what} in {result.time_s:.3f} s (ground {s['ground_s']:.3f} s, search {s['search_s']:.3f} s); "
             f"{s['operators']} operators, {s['facts']} facts, {s['expansions']} expansions, "
             f"{s['evaluations']} evaluations")
-
-
-def _write_json(path: str, result: ClassicalResult, seed: int) -> None:
-    document = {
-        "status": "solved" if result.status == "solved" else "unsolved",
-        "reason": result.status,
-        "time_s": round(result.time_s, 6),
-        "seed": seed,
-        "plan": [{"name": name, "args": list(args), "params": {}} for name, args in result.plan],
-        "stats": {"skeletons": 1, "samples": {}, **result.stats},
-    }
-    with open(path, "w", encoding="utf-8") as handle:
-        json.dump(document, handle, indent=2)
-        handle.write("\n")
 
 
 def _print_skeletons(loaded: LoadedDomain, problem: Problem, count: int, timeout: float) -> int:
