@@ -16,8 +16,6 @@ import math
 from dataclasses import dataclass
 from typing import Dict, Optional, Tuple
 
-from scipy.spatial.transform import Rotation
-
 from .errors import PddlError, did_you_mean
 from .nodes import Problem, SceneEntry, SceneProp, Symbol
 
@@ -113,7 +111,7 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
         if key in props:
             rpy = _vector(props[key].value, 3)
             check(key, rpy is not None)
-            orientation = tuple(float(q) for q in Rotation.from_euler("xyz", rpy, degrees=degrees).as_quat())
+            orientation = quat_from_rpy(*(math.radians(a) for a in rpy) if degrees else rpy)
     if ":fixed" in props:
         check(":fixed", props[":fixed"].value is None)
     for key in (":mass", ":friction"):
@@ -140,6 +138,16 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
         check(":color", color is not None and all(0.0 <= c <= 1.0 for c in color))
     return SceneObject(entry.name, asset.strip(), position, orientation, ":fixed" in props, mass,
                        friction, scale, support, color)
+
+
+def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
+    """The quaternion (x y z w) of fixed-axis rotations about x, then y, then z (as
+    PyBullet's getQuaternionFromEuler); plain math keeps scipy out of a classical run."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy)
 
 
 def _vector(value, length: int):
