@@ -22,7 +22,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("plan", metavar="PLAN.json", help="a plan written by `plan --json`")
     parser.add_argument("domains", nargs="*", metavar="DOMAIN", help="its domain (default: found beside it)")
     parser.add_argument("--render", metavar="FILE.gif", help="save the replay as a GIF")
-    parser.add_argument("--seed", type=int, default=0, metavar="N", help="seed for retreat IK (default 0)")
     args = parser.parse_args(argv)
     try:
         with open(args.plan, encoding="utf-8") as handle:
@@ -37,7 +36,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         domains = [load_domain([d]) for d in args.domains]
         domain, problem = load_problem(args.problem, domains)
         recorder = Recorder() if args.render else None
-        result = replay(domain, problem, steps, seed=args.seed, recorder=recorder)
+        result = replay(domain, problem, steps, recorder=recorder)
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
