@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import contextlib
 from dataclasses import dataclass
-from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
@@ -58,6 +58,8 @@ class World:
         self.bodies: Dict[str, Body] = {}
         self.attachment: Optional[Attachment] = None
         self.sim_steps = 0  # physics steps simulated, for statistics
+        # Called with the world after every physics step (demonstration recording); see `step`.
+        self.observers: List[Callable[["World"], None]] = []
         self.arm_targets = np.array(HOME)
         self.finger_target = MAX_OPENING / 2
         self.hand_com = hand_inertial(self.client, self.robot)
@@ -229,7 +231,9 @@ class World:
             p.stepSimulation(physicsClientId=self.client)
             if self.attachment is not None:
                 self._pin_held()
-        self.sim_steps += steps
+            self.sim_steps += 1
+            for observer in self.observers:  # the world as it is after this step
+                observer(self)
 
     def _pin_held(self) -> None:
         """Put the held object back exactly at its grasp, moving with the hand.
