@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Optional
 import numpy as np
 import pybullet as p
 
+from ..samplers.grasp import grasp_opening
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
 from ..world.attachment import relative_pose
 from ..world.robot import CLOSED, MAX_OPENING
@@ -73,6 +74,7 @@ def grasp(world: "World", obj: str, grasp_: Grasp, trajectory: Trajectory,
             return Outcome(False, f"already holding {world.attachment.name}")
         if grasp_.object != obj:
             return Outcome(False, f"the grasp is of {grasp_.object}, not {obj}")
+        world.set_fingers(grasp_opening(grasp_.width) / 2)  # in free space; the approach is checked so
         follow(world, trajectory.approach, "approach", recorder=recorder)
         follow(world, trajectory.final, "final approach", recorder=recorder)
         error = grasp_error(world, grasp_)

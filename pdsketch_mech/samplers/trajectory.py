@@ -14,6 +14,7 @@ import numpy as np
 import pybullet as p
 
 from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, MAX_CHECKS, cartesian_path, path_collision, plan_motion
+from .grasp import grasp_opening
 from .types import Contact, Grasp, Placement, Pose, Trajectory
 
 if TYPE_CHECKING:
@@ -59,9 +60,12 @@ def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], fi
 
 
 def grasp_motion(world: "World", obj: str, grasp: Grasp, rng: np.random.Generator) -> Optional[Trajectory]:
-    """To the pre-grasp, then along the approach axis to the grasp."""
+    """To the pre-grasp, then along the approach axis to the grasp, the fingers open to the
+    grasp's opening (as the grasp operator opens them before it moves)."""
     tcp = compose(world.pose(obj), grasp.in_object)
-    return _motion(world, tcp, _approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
+    with world.saved():
+        world.set_fingers(grasp_opening(grasp.width) / 2)
+        return _motion(world, tcp, _approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
 
 
 def place_motion(world: "World", placement: Placement, rng: np.random.Generator) -> Optional[Trajectory]:
