@@ -116,8 +116,12 @@ def test_cli_writes_a_file_and_rejects_bad_requests(tmp_path, capsys):
     assert envs_main(["hok", "--seed", "1"]) == 2
     assert envs_main(["hook"]) == 2
     assert envs_main(["hook", "--seed", "1", "--canonical"]) == 2
+    with pytest.raises(SystemExit) as exit_:
+        envs_main(["hook", "--seed", "-1"])
+    assert exit_.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err[0].startswith("envs: error: unknown task 'hok'") and len(err) == 3
+    assert err[0].startswith("error: unknown task 'hok'") and len(err) == 4
+    assert err[3] == "error: argument --seed: must be a whole number >= 0, got '-1'"
 
 
 def test_cli_process_is_quick_and_deterministic(tmp_path):
