@@ -41,7 +41,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print_error(error)
         return EXIT_BAD_INPUT
     if args.render:
-        save_gif(result.frames, args.render)
+        save_gif(recorder.frames, args.render)
     print(f"replay: {len(steps)} steps; {result.message}", file=sys.stderr)
     return EXIT_OK if result.goal_reached else EXIT_UNSOLVED
 

@@ -33,7 +33,7 @@ def _unroll(path: Path) -> List[int]:
 
 def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, max_length: int = 40,
                    deadline: Optional[float] = None,
-                   heuristic: Optional[FFHeuristic] = None) -> Iterator[List[int]]:
+                   heuristic: Optional[FFHeuristic] = None, allow_repeated_loops: bool = True) -> Iterator[List[int]]:
     """Yield operator-id plans, cheapest (by g + weight·h) first, no two with the same labels.
 
     Stops when the open list is exhausted or at `deadline` (time.perf_counter() value).
@@ -66,7 +66,7 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
         for op in successors(state):
             child = task.successor(state, task.operators[op])
             loop = child == state
-            if (loop and after_loop) or visits[child, cost + 1] >= max_visits:
+            if (loop and after_loop and not allow_repeated_loops) or visits[child, cost + 1] >= max_visits:
                 continue
             h = h_cache.get(child)
             if h is None:
