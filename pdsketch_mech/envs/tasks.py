@@ -39,8 +39,9 @@ EDGE = TaskSpec(
     ),
     goal="(holding flat)",
     distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.7), (-0.4, -0.1))),
-    demo="push the flat object with the closed fingers towards +y until about 40 % of it overhangs "
-         "the table's edge, then pinch the overhang (fingers above and below it) and lift",
+    demo="push the flat object with the closed fingers towards +y until 35 % of it overhangs the "
+         "table's edge, then grasp the overhang (a plate by its rim at its outermost point, where the "
+         "outer finger has room now) and lift it",
 )
 
 HOOK = TaskSpec(

@@ -1,4 +1,4 @@
-"""Edge: push the flat object with the closed fingers until 40 % of it overhangs the table's
+"""Edge: push the flat object with the closed fingers until 35 % of it overhangs the table's
 +y edge, then grasp the overhang — a plate by its rim at its outermost point, the outer
 finger beyond the table's edge where there is room for it now — and lift it."""
 from __future__ import annotations
@@ -10,14 +10,13 @@ import pybullet as p
 
 from ..tasks import SMALL_TABLE_EDGE_Y as TABLE_EDGE_Y
 from .geometry import box, planar, rot2
-from .motion import DemoError, Driver, frame_quat, top_down
+from .motion import PUSH_STEPS, DemoError, Driver, frame_quat, top_down
 
 if TYPE_CHECKING:
     from ...world.world import World
     from ..generate import Instance
 
 OVERHANG = 0.35      # of the object's extent across the edge
-PINCH_IN = 0.045     # the pinch's centre this far beyond the edge: the hand (~3.5 cm thick) clears the table
 LIFT = 0.10
 RIM_FLARE = 28.0     # degrees: a plate's rim wall leans out by 8 mm over its 15 mm height
 RIM_TILTS = (0.0, 15.0, 30.0, 45.0, 60.0, 75.0)   # degrees the rim grasp's approach may lean sideways
@@ -29,18 +28,6 @@ def footprint_y(world: "World", instance: "Instance", name: str) -> Tuple[float,
     lo, hi = box(instance, name)
     corners = np.array([[a, b] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])]) @ rot2(yaw).T
     return y + corners[:, 1].min(), y + corners[:, 1].max()
-
-
-def chord_middle(world: "World", instance: "Instance", name: str, y_line: float) -> float:
-    """The x in the middle of the object's bounding box where it crosses the line y = y_line."""
-    x, y, _, yaw = planar(world, name)
-    lo, hi = box(instance, name)
-    xs = np.linspace(x - 0.3, x + 0.3, 601)
-    local = (np.stack([xs - x, np.full_like(xs, y_line - y)], axis=1)) @ rot2(yaw)  # world -> object
-    inside = (local[:, 0] >= lo[0]) & (local[:, 0] <= hi[0]) & (local[:, 1] >= lo[1]) & (local[:, 1] <= hi[1])
-    if not inside.any():
-        raise DemoError(f"{name} does not reach y = {y_line:.3f}")
-    return float(xs[inside].mean())
 
 
 def push_to_edge(world: "World", instance: "Instance", driver: Driver, name: str, overhang: float = OVERHANG) -> None:
@@ -55,7 +42,7 @@ def push_to_edge(world: "World", instance: "Instance", driver: Driver, name: str
     driver.close()
     driver.approach(start, [top_down(0.0), top_down(np.pi)], back=0.08, direction=(0.0, 0.0, -1.0))
     distance = TABLE_EDGE_Y + overhang * (y1 - y0) - y1 + 0.03
-    driver.line((0.0, 1.0, 0.0), distance, steps=20)
+    driver.line((0.0, 1.0, 0.0), distance, steps=PUSH_STEPS)
     driver.line((0.0, -1.0, 0.0), 0.03)
     driver.up(0.08)
     driver.settle()
@@ -112,15 +99,6 @@ def pinch_overhang(world: "World", instance: "Instance", driver: Driver, name: s
     if y1 - TABLE_EDGE_Y < 0.03:
         raise DemoError(f"{name} overhangs the edge by {100 * (y1 - TABLE_EDGE_Y):.1f} cm only")
     grasp_rim(world, instance, driver, name, (0.0, 1.0))
-
-
-def chord_extent(world: "World", instance: "Instance", name: str, y_line: float) -> Tuple[float, float]:
-    x, y, _, yaw = planar(world, name)
-    lo, hi = box(instance, name)
-    xs = np.linspace(x - 0.3, x + 0.3, 601)
-    local = (np.stack([xs - x, np.full_like(xs, y_line - y)], axis=1)) @ rot2(yaw)
-    inside = (local[:, 0] >= lo[0]) & (local[:, 0] <= hi[0]) & (local[:, 1] >= lo[1]) & (local[:, 1] <= hi[1])
-    return float(xs[inside].min()), float(xs[inside].max())
 
 
 def demo(world: "World", instance: "Instance", driver: Driver) -> None:

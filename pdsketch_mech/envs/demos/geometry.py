@@ -7,7 +7,6 @@ from typing import TYPE_CHECKING, Sequence, Tuple
 import numpy as np
 import pybullet as p
 
-from ...world.attachment import compose, invert
 from ..generate import Instance
 
 if TYPE_CHECKING:
@@ -42,12 +41,6 @@ def yaw_quat(yaw: float) -> Tuple[float, float, float, float]:
     return tuple(p.getQuaternionFromEuler((0.0, 0.0, yaw)))
 
 
-def held_tcp_for(world: "World", obj_pose: Pose) -> Pose:
-    """Where the gripper frame must be for the held object to be at `obj_pose`."""
-    grip = world.held_tcp_in_object()
-    return compose(obj_pose, grip)
-
-
 def extent_along(lo: np.ndarray, hi: np.ndarray, yaw: float, direction: Sequence[float]) -> float:
     """Half the object's footprint extent along the world direction (unit, planar)."""
     corners = np.array([[x, y] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]) @ rot2(yaw).T
@@ -62,5 +55,4 @@ def closing_for(yaw: float) -> Tuple[float, float]:
     return yaw + math.pi / 2, yaw - math.pi / 2
 
 
-__all__ = ["box", "closing_for", "compose", "extent_along", "held_tcp_for", "invert", "planar", "rot2", "to_world",
-           "yaw_quat"]
+__all__ = ["box", "closing_for", "extent_along", "planar", "rot2", "to_world", "yaw_quat"]

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .geometry import box, closing_for, extent_along, planar, rot2, to_world, yaw_quat
-from .motion import DemoError, Driver, top_down
+from .motion import PUSH_STEPS, DemoError, Driver, top_down
 
 if TYPE_CHECKING:
     from ...world.world import World
@@ -60,7 +60,7 @@ def demo(world: "World", instance: "Instance", driver: Driver) -> None:
     driver.place_held([low], back=float(bhi[2] - blo[2]) + 0.03, then=(pull3, distance))
 
     # 3. Pull the box towards the robot.
-    driver.line(pull3, distance, steps=16)
+    driver.line(pull3, distance, steps=PUSH_STEPS)
 
     # 4. Lift the tool clear and put it down where it was (or beside that, if the box is there).
     driver.up(0.06)

@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation
 
 from ...operators.execution import fingers_touching, set_fingers_dynamic
 from ...world.collision import CollisionChecker
-from ...world.motion import cartesian_path, plan_motion
+from ...world.motion import cartesian_path, path_collision, plan_motion
 from ...world.robot import CLOSED, MAX_OPENING
 
 if TYPE_CHECKING:
@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 
 STEPS_PER_WAYPOINT = 8      # free motions: 0.05 rad waypoints at ~1.5 rad/s
 LINE_STEPS = 8              # straight moves: 1 cm waypoints at 0.3 m/s
-PUSH_STEPS = 16             # pushes and pulls: 0.15 m/s
+PUSH_STEPS = 16             # pushes and pulls: 1 cm in 16 steps, 0.15 m/s
 TRACKING = 2e-3             # radians: a motion ends when every joint is this close to its target
 MAX_WAIT = 240              # physics steps to wait for the arm to get there
 IK_TOLERANCE = dict(pos_tol=1e-3, ang_tol=1e-2)   # tighter than the world's default (5 mm): objects land where meant
@@ -49,10 +49,6 @@ def frame_quat(approach: Sequence[float], closing: Sequence[float]) -> tuple:
 def top_down(closing_angle: float) -> tuple:
     """Pointing straight down, fingers closing along the horizontal direction `closing_angle` (rad)."""
     return frame_quat((0.0, 0.0, -1.0), (np.cos(closing_angle), np.sin(closing_angle), 0.0))
-
-
-def yaw_of(quat: Sequence[float]) -> float:
-    return float(p.getEulerFromQuaternion(quat)[2])
 
 
 class Driver:
@@ -81,38 +77,6 @@ class Driver:
             if float(np.max(np.abs(world.arm() - world.arm_targets))) < TRACKING:
                 break
             world.step(4)
-
-    def ik(self, position: Sequence[float], orientation: Sequence[float]) -> np.ndarray:
-        q = self.world.kinematics.ik(position, orientation, self.rng, seed=self.world.arm(), **IK_TOLERANCE)
-        if q is None:
-            raise DemoError(f"no IK for the gripper at {np.round(position, 3).tolist()}")
-        return q
-
-    def best_ik(self, position: Sequence[float], orientations: Sequence[Sequence[float]]) -> np.ndarray:
-        """IK for the first reachable orientation among the nearest to the current joints."""
-        found = []
-        for orn in orientations:
-            q = self.world.kinematics.ik(position, orn, self.rng, seed=self.world.arm(), **IK_TOLERANCE)
-            if q is not None:
-                found.append(q)
-        if not found:
-            raise DemoError(f"no IK for the gripper at {np.round(position, 3).tolist()}")
-        return min(found, key=lambda q: float(np.sum(np.abs(q - self.world.arm()))))
-
-    def free_ik(self, position: Sequence[float], orientations: Sequence[Sequence[float]],
-                ignore: Sequence[str] = ()) -> np.ndarray:
-        """IK for the first orientation (in the order given) at which the arm touches
-        nothing; among that orientation's solutions the one found from the current joints."""
-        checker = CollisionChecker(self.world, ignore)
-        for orn in orientations:
-            q = self.world.kinematics.ik(position, orn, self.rng, seed=self.world.arm(), **IK_TOLERANCE)
-            if q is None:
-                continue
-            with self.world.saved():
-                free = not checker.collides(q)
-            if free:
-                return q
-        raise DemoError(f"no collision-free IK for the gripper at {np.round(position, 3).tolist()}")
 
     def approach(self, target: Sequence[float], orientations: Sequence[Sequence[float]], back: float = 0.08,
                  ignore: Sequence[str] = (), direction: Optional[Sequence[float]] = None) -> int:
@@ -148,7 +112,7 @@ class Driver:
                 if blocked:
                     continue
                 path = cartesian_path(world, q_pre, axis, back, self.rng)
-                if path is None:
+                if path is None or path_collision(world, path, ignore) is not None:
                     continue
                 if then is not None and cartesian_path(world, path[-1], then[0], then[1], self.rng) is None:
                     continue
@@ -165,22 +129,6 @@ class Driver:
         tcp = [tuple(tuple(v) for v in p.multiplyTransforms(pos, orn, grip[0], grip[1])) for pos, orn in poses]
         return self.approach_poses(tcp, back, ignore, direction=(0.0, 0.0, -1.0), then=then)
 
-    def carry_to(self, poses: Sequence, ignore: Sequence[str] = ()):
-        """Move the held object to the first of `poses` (its link-frame pose) the arm reaches
-        with the grasp it has, nearest to the current joints; returns that pose."""
-        world = self.world
-        grip = world.held_tcp_in_object()
-        best = None
-        for pose in poses:
-            pos, orn = p.multiplyTransforms(pose[0], pose[1], grip[0], grip[1])
-            q = world.kinematics.ik(pos, orn, self.rng, seed=world.arm(), **IK_TOLERANCE)
-            if q is not None and (best is None or np.sum(np.abs(q - world.arm())) < np.sum(np.abs(best[0] - world.arm()))):
-                best = (q, pose)
-        if best is None:
-            raise DemoError(f"no IK to carry {world.attachment.name} to {np.round(poses[0][0], 3).tolist()}")
-        self.move_to_q(best[0], ignore)
-        return best[1]
-
     def move_to_q(self, q: Sequence[float], ignore: Sequence[str] = ()) -> None:
         """A collision-free planned motion to `q`, followed with physics."""
         result = plan_motion(self.world, self.world.arm(), q, ignore=ignore, seed=self.seed)
@@ -189,11 +137,9 @@ class Driver:
             raise DemoError(f"no free motion to the gripper at {where}: {result.reason}")
         self.follow(result.path)
 
-    def move_to(self, position: Sequence[float], orientation: Sequence[float], ignore: Sequence[str] = ()) -> None:
-        self.move_to_q(self.ik(position, orientation), ignore)
-
-    def line(self, direction: Sequence[float], distance: float, steps: int = LINE_STEPS) -> None:
-        """The gripper straight along `direction` for `distance` metres, orientation kept."""
+    def line(self, direction: Sequence[float], distance: float, steps: int = LINE_STEPS, planned: bool = False) -> None:
+        """The gripper straight along `direction` for `distance` metres, orientation kept
+        (`planned`: if no straight motion exists, a planned one to the same end will do)."""
         remaining = distance
         while remaining > 1e-4:
             # A long line can fail where IK from one waypoint to the next jumps branches: then
@@ -206,10 +152,38 @@ class Driver:
             if path is None:
                 piece = remaining
                 path = self._joint_line(direction, piece)
+            if path is None and planned:
+                self._planned_line(direction, remaining)
+                return
             if path is None:
                 raise DemoError(f"no straight motion of {distance:.3f} m along {np.round(direction, 2).tolist()}")
             self.follow(path, steps)
             remaining -= piece
+
+    def _planned_line(self, direction: Sequence[float], distance: float) -> None:
+        """Where no straight motion exists (a wrist at its limit): a planned free motion to the
+        same end pose, solved with IK restarts."""
+        kin, q0 = self.world.kinematics, self.world.arm()
+        start, orn = kin.fk(q0)
+        end = np.asarray(start) + np.asarray(direction, dtype=float) / np.linalg.norm(direction) * distance
+        # What the hand or the held object touches now may be touched on the way off it.
+        touching = self._touching()
+        for _ in range(4):
+            q1 = kin.ik(end, orn, self.rng, seed=kin.limits.sample(self.rng), **IK_TOLERANCE)
+            if q1 is not None and plan_motion(self.world, q0, q1, ignore=touching, seed=self.seed).path is not None:
+                self.move_to_q(q1, touching)
+                return
+        raise DemoError(f"no motion of {distance:.3f} m along {np.round(direction, 2).tolist()}")
+
+    def _touching(self) -> Tuple[str, ...]:
+        world = self.world
+        names = {body.id: name for name, body in world.bodies.items()}
+        movers = [world.robot] + ([world.bodies[world.attachment.name].id] if world.attachment else [])
+        found = {names[c[2]] for mover in movers for c in p.getContactPoints(bodyA=mover, physicsClientId=world.client)
+                 if c[2] in names and c[8] < 2e-3}
+        if world.attachment:
+            found.discard(world.attachment.name)
+        return tuple(sorted(found))
 
     def _joint_line(self, direction: Sequence[float], distance: float, tolerance: float = 4e-3) -> Optional[np.ndarray]:
         """A joint-space interpolation to the end of the line (IK with restarts), if the
@@ -228,15 +202,10 @@ class Driver:
                 return None
         return path
 
-    def line_to(self, position: Sequence[float], steps: int = LINE_STEPS) -> None:
-        delta = np.asarray(position, dtype=float) - np.asarray(self.tcp()[0])
-        self.line(delta, float(np.linalg.norm(delta)), steps)
-
     def up(self, distance: float) -> None:
-        self.line((0.0, 0.0, 1.0), distance)
+        """Lift the gripper `distance` metres: straight up, or by a planned motion to there."""
+        self.line((0.0, 0.0, 1.0), distance, planned=True)
 
-    def tcp(self):
-        return self.world.tcp_pose()
 
     # ------------------------------------------------------------------ gripper
     def open(self) -> None:

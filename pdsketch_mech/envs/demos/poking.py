@@ -10,7 +10,7 @@ import numpy as np
 
 from .geometry import box, closing_for, extent_along, planar, to_world, yaw_quat
 from .lever import grasp_from_top
-from .motion import DemoError, Driver, top_down
+from .motion import PUSH_STEPS, DemoError, Driver, top_down
 
 if TYPE_CHECKING:
     from ...world.world import World
@@ -63,7 +63,7 @@ def demo(world: "World", instance: "Instance", driver: Driver) -> None:
     travel = (half_length + OUT) - (s_tip0)
     if s_block - half_depth < s_tip0:
         raise DemoError("the block is not inside the tunnel")
-    driver.line((axis[0], axis[1], 0.0), travel, steps=16)
+    driver.line((axis[0], axis[1], 0.0), travel, steps=PUSH_STEPS)
     driver.line((-axis[0], -axis[1], 0.0), travel)
 
     # Put the stick back where it was, then take the block.

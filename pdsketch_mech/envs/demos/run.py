@@ -116,7 +116,7 @@ def run_demo(name: str, instance: Optional[Instance] = None, record: bool = True
                             time.perf_counter() - start, error)
         if recorder:
             result.extra["arrays"] = recorder.arrays()
-            result.extra["header"] = recorder.header()
+            result.extra["header"] = recorder.header(rested_steps_before=SETTLE_BEFORE)
     return result
 
 
