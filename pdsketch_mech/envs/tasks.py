@@ -54,7 +54,7 @@ HOOK = TaskSpec(
                                   ("caliper/0", "caliper/1", "caliper/2", "l-stick/2", "soup-ladle/2", "hammer/2",
                                    "spoon/2")),
                    xy=(0.5, 0.15), scale=(0.9, 1.15), role="the hook"),
-        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.97, 0.0), yaw=90.0, mass=0.2,
+        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.95, 0.0), yaw=90.0, mass=0.2,
                    friction=0.6, scale=(0.9, 1.1), role="the box out of reach"),
     ),
     goal="(holding target)",
