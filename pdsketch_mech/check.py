@@ -1,9 +1,14 @@
 """`python -m pdsketch_mech.check FILE ...`: parse and type-check domain and problem files.
 
 Domain files are checked with everything they `:extends`; a problem is checked against the
-domain it names, found among the given files or beside the problem, and its scene's assets
-must exist. Exit 0 when every file
-is clean, 2 otherwise, with one `FILE:LINE:COL: error: ...` line per failing file.
+domain it names, found among the given files or beside the problem. Then everything `plan`
+validates before it searches: a domain's streams name samplers that exist, a problem for a
+domain with streams has a `:scene`, and a scene builds into a simulated world (assets exist,
+no object is inside another or the robot, far away or below the table: `world/build.py`).
+Where the scene and `:init` disagree on the contact graph, check warns as `plan` does.
+Exit 0 when every file is clean (warnings allowed), 2 otherwise, with one
+`FILE:LINE:COL: error: ...` line per failing file. Only a problem with a scene (or a domain
+with streams) loads the simulator: checking classical PDDL stays fast.
 """
 from __future__ import annotations
 
@@ -11,10 +16,10 @@ import argparse
 import sys
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error, run
-from .lang.errors import PddlError
+from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error, print_warning, run
+from .lang.errors import PddlError, PddlWarning, did_you_mean
 from .lang.loader import LoadedDomain, declared_domain_name, load_domain, load_problem
-from .world.build import resolve_scene_assets
+from .lang.nodes import Problem
 
 
 def _plural(count: int, word: str) -> str:
@@ -30,12 +35,46 @@ def describe_domain(loaded: LoadedDomain) -> str:
             f"{_plural(len(d.streams), 'stream')}, {_plural(len(d.mechanisms), 'mechanism')}")
 
 
+def check_samplers(loaded: LoadedDomain) -> None:
+    """Every stream is implemented by a sampler the planner has."""
+    if not loaded.domain.streams:
+        return
+    from .planner.bindings import SAMPLERS  # loads the simulator: only for domains with streams
+
+    for stream in loaded.domain.streams:
+        name = stream.sampler or stream.name
+        if name not in SAMPLERS:
+            raise PddlError(f"stream '{stream.name}' uses sampler '{name}', which does not exist"
+                            f"{did_you_mean(name, SAMPLERS)}; known: {', '.join(sorted(SAMPLERS))}", stream.loc)
+
+
+def check_scene(loaded: LoadedDomain, problem: Problem, path: str) -> List[PddlWarning]:
+    """What `plan` checks of a problem's scene before searching; returns the warnings."""
+    streams = bool(loaded.domain.streams)
+    if streams and problem.scene is None:
+        raise PddlError(f"problem '{problem.name}' has no :scene; domain '{loaded.domain.name}' has "
+                        "streams, so the planner needs the physical scene", problem.loc)
+    if problem.scene is None:
+        return []
+    from .world.build import build_world  # PyBullet: only a problem with a scene needs it
+
+    with build_world(problem) as world:
+        if not streams:
+            return []  # a classical plan never looks at the scene
+        from .planner.bilevel import _initial_mismatch, prepare_task
+
+        task, _ = prepare_task(loaded, problem)
+        world.settle()  # as the planner does before it compares
+        mismatch = _initial_mismatch(task, world)
+    return [PddlWarning(mismatch, file=path)] if mismatch else []
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = argparse.ArgumentParser(
         prog="python -m pdsketch_mech.check",
         description="Parse and type-check .pddl domain and problem files (exit 0 clean, 2 on errors).")
     parser.add_argument("files", nargs="+", metavar="FILE", help="domain and problem files, in any order")
-    parser.add_argument("-q", "--quiet", action="store_true", help="print errors only")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print errors and warnings only")
     args = parser.parse_args(argv)
 
     domain_files = [f for f in args.files if declared_domain_name(f) is not None]
@@ -44,17 +83,26 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     failures = 0
     for path in domain_files:
         try:
-            loaded.append(load_domain([path]))
+            domain = load_domain([path])
+            for warning in domain.warnings:
+                print_warning(warning)
+            check_samplers(domain)
         except PddlError as error:
             print_error(error)
             failures += 1
             continue
+        loaded.append(domain)
         if not args.quiet:
-            print(f"{path}: ok: {describe_domain(loaded[-1])}")
+            print(f"{path}: ok: {describe_domain(domain)}")
     for path in problem_files:
         try:
             domain, problem = load_problem(path, loaded)
-            resolve_scene_assets(problem)
+            if all(domain is not d for d in loaded):  # found beside the problem: not checked above
+                for warning in domain.warnings:
+                    print_warning(warning)
+                check_samplers(domain)
+            for warning in check_scene(domain, problem, path):
+                print_warning(warning)
         except PddlError as error:
             print_error(error)
             failures += 1

@@ -6,7 +6,7 @@ import os
 import sys
 from typing import Any, Callable, Dict, List
 
-from .lang.errors import PddlError
+from .lang.errors import PddlError, PddlWarning
 
 EXIT_OK, EXIT_UNSOLVED, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -21,6 +21,11 @@ def print_error(error: PddlError) -> None:
         except (OSError, UnicodeDecodeError):
             source = None
     print(error.render(source), file=sys.stderr)
+
+
+def print_warning(warning: PddlWarning) -> None:
+    """The one-line `FILE:LINE:COL: warning: ...` on stderr."""
+    print(warning, file=sys.stderr)
 
 
 def run(main: Callable[[], int]) -> int:

@@ -13,7 +13,7 @@ import sys
 import time
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, run, write_plan_json
+from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, print_warning, run, write_plan_json
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, load_domain, load_problem
 from .lang.nodes import Problem
@@ -53,6 +53,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return EXIT_BAD_INPUT
     try:
         loaded = load_domain([args.domain, *args.mechanisms])
+        for warning in loaded.warnings:
+            print_warning(warning)
         loaded, problem = load_problem(args.problem, [loaded])
     except PddlError as error:
         print_error(error)

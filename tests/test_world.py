@@ -217,9 +217,10 @@ def test_unknown_asset_is_a_located_error_naming_the_object():
     assert str(error.value).startswith("p.pddl:4:14: error: scene object 'a': unknown asset 'l-stik/0'")
 
 
-def test_object_inside_another_is_a_located_error_naming_it():
+def test_object_put_inside_another_is_a_located_error_naming_both():
     text = SCENE_PROBLEM.format(a="block/0", z=0.5).replace("(0.5 0.3 0.5)", "(0.5 0 0.5)")
-    with pytest.raises(PddlError, match=r"^p.pddl:4:11: error: scene object 'a': overlaps 'b' by \d+\.\d cm"):
+    # Reported at 'b': it was put where 'a' already is.
+    with pytest.raises(PddlError, match=r"^p.pddl:5:11: error: scene object 'b': overlaps 'a' by \d+\.\d cm"):
         build_world(parse_text(text, "p.pddl"))
 
 

@@ -79,6 +79,20 @@ def run_world_command(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def run_startup_command(args: argparse.Namespace) -> int:
+    """`startup`: time plan and check in fresh processes and print them against the target."""
+    from . import startup
+
+    if args.json and not os.path.isdir(os.path.dirname(os.path.abspath(args.json))):
+        raise ipc.BenchError(f"{args.json}: its folder does not exist")
+    figures = startup.measure_startup(args.runs)
+    print("\n".join(startup.report(figures)))
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as handle:
+            json.dump(figures, handle, indent=2)
+    return EXIT_OK
+
+
 def run_plan_command(args: argparse.Namespace) -> int:
     """`plan`: solve each PROBLEM (with DOMAIN) over N seeds and print the summary table."""
     from . import plans
@@ -114,6 +128,10 @@ def build_parser() -> argparse.ArgumentParser:
     world.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
     world.add_argument("--json", metavar="FILE", help="write the figures as JSON")
     world.set_defaults(func=run_world_command)
+    startup = commands.add_parser("startup", help="wall time of plan and check, fresh processes (target 0.3 s)")
+    startup.add_argument("--runs", type=int, default=7, metavar="N", help="timed runs per command (default 7)")
+    startup.add_argument("--json", metavar="FILE", help="write the figures as JSON")
+    startup.set_defaults(func=run_startup_command)
     solve = commands.add_parser("plan", help="manipulation problems over several seeds: time and samples")
     solve.add_argument("domain", metavar="DOMAIN", help="domain file (e.g. domains/basis.pddl or a mechanism)")
     solve.add_argument("problems", nargs="+", metavar="PROBLEM", help="problem files")

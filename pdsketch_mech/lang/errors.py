@@ -1,6 +1,8 @@
-"""Errors in language files, reported as `FILE:LINE:COL: error: message`."""
+"""Errors in language files, reported as `FILE:LINE:COL: error: message`, and warnings
+(accepted, but worth a look), reported as `FILE:LINE:COL: warning: message`."""
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Optional
 
 from .nodes import Loc
@@ -33,6 +35,18 @@ class PddlError(Exception):
             return line
         text = lines[self.loc.line - 1].expandtabs(1)
         return f"{line}\n  {text}\n  {' ' * (self.loc.col - 1)}^"
+
+
+@dataclass(frozen=True)
+class PddlWarning:
+    """Something a file does that is accepted but probably not meant, with where it is."""
+
+    message: str
+    loc: Optional[Loc] = None
+    file: str = "<input>"  # used when there is no `loc`
+
+    def __str__(self) -> str:
+        return f"{self.loc if self.loc is not None else self.file}: warning: {self.message}"
 
 
 def did_you_mean(name: str, candidates) -> str:

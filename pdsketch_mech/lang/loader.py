@@ -13,7 +13,7 @@ import re
 from dataclasses import dataclass, replace
 from typing import Dict, FrozenSet, List, Optional, Sequence, Tuple
 
-from .errors import PddlError
+from .errors import PddlError, PddlWarning
 from .nodes import Domain, Problem
 from .parser import parse_file
 from .typecheck import TypeTable, check_domain, check_problem
@@ -27,6 +27,7 @@ class LoadedDomain:
     types: TypeTable
     names: FrozenSet[str]  # every domain name in the merge: a problem may name any of them
     files: Tuple[str, ...]
+    warnings: Tuple[PddlWarning, ...] = ()  # accepted oddities, for the command-line tools to print
 
 
 def read_domain_file(path: str) -> Domain:
@@ -51,8 +52,10 @@ def load_domain(paths: Sequence[str]) -> LoadedDomain:
     merged = ordered[0][1]
     for _, domain in ordered[1:]:
         merged = merge_domains(merged, domain)
-    types = check_domain(merged)
-    return LoadedDomain(merged, types, frozenset(d.name for _, d in ordered), tuple(p for p, _ in ordered))
+    warnings: List[PddlWarning] = []
+    types = check_domain(merged, warnings)
+    return LoadedDomain(merged, types, frozenset(d.name for _, d in ordered), tuple(p for p, _ in ordered),
+                        tuple(warnings))
 
 
 def _collect(path: str, out: List[Tuple[str, Domain]], stack: Tuple[str, ...]) -> None:

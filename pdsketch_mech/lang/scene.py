@@ -142,7 +142,7 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
         if key in props:
             rpy = _vector(props[key].value, 3)
             check(key, rpy is not None)
-            orientation = rpy_to_quat(*(map(math.radians, rpy) if degrees else rpy))
+            orientation = quat_from_rpy(*(math.radians(a) for a in rpy) if degrees else rpy)
     if ":fixed" in props:
         check(":fixed", props[":fixed"].value is None)
     for key in (":mass", ":friction"):
@@ -169,10 +169,9 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
                        friction, scale, support, color)
 
 
-def rpy_to_quat(roll: float, pitch: float, yaw: float) -> Quat:
-    """Extrinsic x-y-z rotations (roll about x, then pitch about y, then yaw about z, all about
-    the fixed axes) as a quaternion (x, y, z, w): the convention of PyBullet and of scipy's
-    `from_euler("xyz")`."""
+def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
+    """The quaternion (x y z w) of fixed-axis rotations about x, then y, then z (as
+    PyBullet's getQuaternionFromEuler); plain math keeps scipy out of a classical run."""
     cr, sr = math.cos(roll / 2), math.sin(roll / 2)
     cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
     cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)

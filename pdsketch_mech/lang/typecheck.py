@@ -3,13 +3,15 @@
 Raises `PddlError` at the first problem, located at the offending node. What it checks:
 declared types/predicates/operators/streams/objects, arities, argument types, bound
 variables, duplicate definitions, effect forms, mechanism steps, and the problem's scene.
+What is accepted but suspicious goes to a list of `PddlWarning`s: a predicate declaring a
+parameter name twice (IPC files do, e.g. logistics' `(in ?obj ?obj)`; only the types matter).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, Mapping, Optional, Sequence
+from typing import Dict, List, Mapping, Optional, Sequence
 
-from .errors import PddlError, did_you_mean
+from .errors import PddlError, PddlWarning, did_you_mean
 from .nodes import (
     Action, ActionCall, And, Atom, Domain, Equals, Exists, Forall, Formula, Imply, Loc,
     Mechanism, Not, Or, Predicate, Problem, RunLoc, Stream, Term, TypedName, Var, When,
@@ -88,14 +90,15 @@ class _Context:
     objects: Mapping[str, str]  # constants and problem objects -> type
 
 
-def check_domain(domain: Domain) -> TypeTable:
-    """Type-check a (merged) domain; returns its type table."""
+def check_domain(domain: Domain, warnings: Optional[List[PddlWarning]] = None) -> TypeTable:
+    """Type-check a (merged) domain, appending warnings to `warnings`; returns its type table."""
     types = type_table(domain)
     constants = _declare_objects(domain.constants, types, "constant", {})
     predicates: Dict[str, Predicate] = {}
     for predicate in domain.predicates:
         _unique(predicates, predicate.name, predicate.loc, "predicate")
-        _check_parameters(predicate.parameters, types, f"predicate '{predicate.name}'")
+        _check_parameters(predicate.parameters, types, f"predicate '{predicate.name}'",
+                          repeats=[] if warnings is None else warnings)
         predicates[predicate.name] = predicate
     ctx = _Context(types, predicates, constants)
 
@@ -144,11 +147,16 @@ def _check_type(type_name: str, types: TypeTable, loc: Optional[Loc]) -> None:
         raise PddlError(f"unknown type '{type_name}'{did_you_mean(type_name, types.parents)}", loc)
 
 
-def _check_parameters(params: Sequence[TypedName], types: TypeTable, owner: str) -> Dict[str, str]:
+def _check_parameters(params: Sequence[TypedName], types: TypeTable, owner: str,
+                      repeats: Optional[List[PddlWarning]] = None) -> Dict[str, str]:
+    """Parameter name -> type; a repeated name is an error, or a warning put in `repeats`."""
     scope: Dict[str, str] = {}
     for param in params:
         _check_type(param.type, types, param.loc)
-        if param.name in scope:
+        if param.name in scope and repeats is not None:
+            repeats.append(PddlWarning(f"parameter {param.name} appears twice in {owner}; accepted, "
+                                       "as only a predicate's parameter types matter", param.loc))
+        elif param.name in scope:
             raise PddlError(f"parameter {param.name} appears twice in {owner}", param.loc)
         scope[param.name] = param.type
     return scope

@@ -1,22 +1,35 @@
 """A problem's `:scene` -> a `World`: every object loaded from its asset at its pose.
 
-Problems are reported as `PddlError`s located at the scene entry (or its `:asset`), so the
-command-line tools print them as one `FILE:LINE:COL: error:` line: an unknown asset, or a
-pose where an object sinks into another object or into the robot by more than `OVERLAP`.
+Whatever cannot be simulated is a `PddlError` located at the offending scene entry (an
+unknown asset at its `:asset`), so the command-line tools print one `FILE:LINE:COL: error:`
+line; when two bodies are involved the message names both:
+- an object farther from the robot base than `MOVABLE_RANGE` (movable) or `FIXED_RANGE`
+  (fixed): the arm reaches ~0.8 m, a tool a little farther; anything beyond is a typo;
+- two objects sinking into each other by more than `OVERLAP` (reported at the movable one,
+  or at the later of two alike: the one put where the other already was);
+- an object inside the robot, its base included (a fixed body may touch the base: the robot
+  is mounted against its table);
+- a movable object with nothing under it (below the table, off its edge): the world has no
+  floor, so it would fall forever.
 """
 from __future__ import annotations
 
-from typing import Dict, Optional
+import math
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import pybullet as p
 
 from ..lang.errors import PddlError
-from ..lang.nodes import Problem, SceneEntry
-from ..lang.scene import build_scene
+from ..lang.nodes import Problem
+from ..lang.scene import SceneObject, build_scene
 from .asset_index import resolve_asset
-from .world import SceneError, World
+from .world import Body, SceneError, World
 
-OVERLAP = 5e-3  # metres of interpenetration tolerated at load time
+OVERLAP = 5e-3        # metres of interpenetration tolerated at load time
+MOVABLE_RANGE = 2.0   # metres from the robot base a movable object may be
+FIXED_RANGE = 5.0     # metres from the robot base a fixed object (furniture) may be
+RAY_DEPTH = 100.0     # metres a "what is under it" ray looks down
+MAX_RAY_HITS = 32     # bodies a ray reports at most (far more than a tabletop holds)
 
 
 def resolve_scene_assets(problem: Problem, root: Optional[str] = None) -> Dict[str, str]:
@@ -34,17 +47,20 @@ def resolve_scene_assets(problem: Problem, root: Optional[str] = None) -> Dict[s
 
 
 def build_world(problem: Problem, assets_root: Optional[str] = None, gui: bool = False) -> World:
-    """The world of `problem`'s scene; closes the half-built world if anything fails."""
+    """The world of `problem`'s scene, checked; closes the half-built world if anything fails."""
     objects = build_scene(problem)
     urdfs = resolve_scene_assets(problem, assets_root)
     world = World(gui=gui)
     try:
+        base = p.getBasePositionAndOrientation(world.robot, physicsClientId=world.client)[0]
         for obj in objects:
+            check_range(obj, base)
             world.add_object(obj, urdfs[obj.name])
         check_overlaps(world)
+        check_supported(world)
     except SceneError as exc:
         world.close()
-        entry: Optional[SceneEntry] = next(e for e in problem.scene if e.name == exc.object_name)
+        entry = next(e for e in problem.scene if e.name == exc.object_name)
         raise PddlError(str(exc), entry.loc) from None
     except BaseException:
         world.close()
@@ -52,14 +68,71 @@ def build_world(problem: Problem, assets_root: Optional[str] = None, gui: bool =
     return world
 
 
+def check_range(obj: SceneObject, robot_base: Sequence[float]) -> None:
+    """`obj` is within the workspace bound of its kind (module docstring)."""
+    limit, kind = (FIXED_RANGE, "fixed") if obj.fixed else (MOVABLE_RANGE, "movable")
+    distance = math.dist(obj.position, robot_base)
+    if distance > limit:
+        raise SceneError(obj.name, f"is {distance:.1f} m from the robot base; a {kind} object must be "
+                                   f"within {limit:.1f} m of it")
+
+
 def check_overlaps(world: World) -> None:
-    items = list(world.bodies.items())
-    for i, (name, body) in enumerate(items):
-        others = [(n, b.id) for n, b in items[i + 1:]] + [("the robot", world.robot)]
-        for other, other_id in others:
-            points = p.getClosestPoints(body.id, other_id, 0.0, physicsClientId=world.client)
-            # The robot's bolted-down base (link -1) may rest on the table it is mounted on.
-            depth = -min((c[8] for c in points if not (other_id == world.robot and c[4] == -1)), default=0.0)
+    """No two bodies, and no body and the robot, interpenetrate by more than `OVERLAP`."""
+    bodies = list(world.bodies.values())
+    for i, body in enumerate(bodies):
+        for earlier in bodies[:i]:
+            depth = _depth(p.getClosestPoints(body.id, earlier.id, 0.0, physicsClientId=world.client))
             if depth > OVERLAP:
-                raise SceneError(name, f"overlaps {other if other == 'the robot' else repr(other)} by "
-                                       f"{depth * 100:.1f} cm at its scene pose")
+                blamed, other = (earlier, body) if body.fixed and not earlier.fixed else (body, earlier)
+                raise SceneError(blamed.name, f"overlaps '{other.name}' by {depth * 100:.1f} cm at their "
+                                              "scene poses")
+        points = p.getClosestPoints(body.id, world.robot, 0.0, physicsClientId=world.client)
+        if body.fixed:  # the robot's base may rest on (or against) the furniture it is mounted on
+            points = [c for c in points if c[4] != -1]
+        depth = _depth(points)
+        if depth > OVERLAP:
+            deepest = min(points, key=lambda c: c[8])
+            raise SceneError(body.name, f"overlaps the robot ({_link_name(world, deepest[4])}) by "
+                                        f"{depth * 100:.1f} cm at its scene pose")
+
+
+def check_supported(world: World) -> None:
+    """A vertical ray down from each movable object's middle meets some other body."""
+    for body in world.bodies.values():
+        if body.fixed:
+            continue
+        lo, hi = world.aabb(body.name)
+        middle = (lo + hi) / 2
+        below = _others_on_ray(world, body, middle, middle - (0.0, 0.0, RAY_DEPTH))
+        if below:
+            continue
+        above = _others_on_ray(world, body, middle, middle + (0.0, 0.0, RAY_DEPTH))
+        where = f"is below {above[0]} with nothing under it" if above else "has nothing under it"
+        raise SceneError(body.name, f"{where}: it would fall (the world has no floor)")
+
+
+def _depth(points: Sequence[tuple]) -> float:
+    """How deep the deepest of `getClosestPoints`' points is (0 if none penetrates)."""
+    return -min((c[8] for c in points), default=0.0)
+
+
+def _link_name(world: World, link: int) -> str:
+    if link == -1:
+        return p.getBodyInfo(world.robot, physicsClientId=world.client)[0].decode()
+    return p.getJointInfo(world.robot, link, physicsClientId=world.client)[12].decode()
+
+
+def _others_on_ray(world: World, body: Body, start, end) -> List[str]:
+    """The bodies other than `body` that the ray start -> end meets, nearest first, as
+    message text ('table', the robot); a ray reports one hit per call, so ask for each in turn."""
+    names = {b.id: f"'{b.name}'" for b in world.bodies.values()}
+    names[world.robot] = "the robot"
+    hits: List[Tuple[float, str]] = []
+    for k in range(MAX_RAY_HITS):
+        (hit,) = p.rayTestBatch([tuple(start)], [tuple(end)], reportHitNumber=k, physicsClientId=world.client)
+        if hit[0] < 0:
+            break
+        if hit[0] != body.id:
+            hits.append((hit[2], names.get(hit[0], f"body {hit[0]}")))
+    return [name for _, name in sorted(hits)]

@@ -1,0 +1,105 @@
+"""`check` validates what `plan` validates before searching: the scene builds into a world
+(no object inside another or the robot, far away or below the table), streams name real
+samplers, a stream domain's problem has a scene; scene-vs-:init disagreement is a warning."""
+import os
+
+import pytest
+
+from pdsketch_mech import check, plan
+
+from conftest import ROOT
+
+BASIS = os.path.join(ROOT, "domains", "basis.pddl")
+
+# Line 7 is b's entry, line 8 a's: {a} is a's position, {more} extra entries.
+SCENE = """(define (problem p) (:domain mech-basis)
+  (:objects table a b - item)
+  (:init (handempty) (support a table) (support b table))
+  (:goal (holding a))
+  (:scene
+    (table :asset "table" :position (0.6 0 0) :fixed)
+    (b :asset "block/0" :position (0.5 0.2 0.026) :on table)
+    (a :asset "block/0" :position {a} :on table)))
+"""
+
+
+def run_check(capsys, *paths):
+    status = check.main(["-q", *paths])
+    return status, capsys.readouterr().err.strip().splitlines()
+
+
+@pytest.mark.parametrize("position,message", [
+    ("(0.5 0.2 0.03)", "scene object 'a': overlaps 'b' by 4.8 cm at their scene poses"),
+    ("(0.5 0 0)", "scene object 'a': overlaps 'table' by 2.7 cm at their scene poses"),
+    ("(0 0 0.05)", "scene object 'a': overlaps the robot (panda_link0) by 7.7 cm at its scene pose"),
+    ("(100 0 0.026)", "scene object 'a': is 100.0 m from the robot base; a movable object must be within "
+                      "2.0 m of it"),
+    ("(0.5 0 -0.4)", "scene object 'a': is below 'table' with nothing under it: it would fall (the world "
+                     "has no floor)"),
+], ids=["overlapping objects", "sunk into the table", "inside the robot base", "100 m away", "below the table"])
+def test_scene_errors_are_located_at_the_entry(write_files, capsys, position, message):
+    (problem,) = write_files(**{"p.pddl": SCENE.format(a=position)})
+    assert run_check(capsys, BASIS, problem) == (2, [f"{problem}:8:5: error: {message}"])
+
+
+def test_plan_rejects_the_same_scene_with_the_same_line(write_files, capsys):
+    (problem,) = write_files(**{"p.pddl": SCENE.format(a="(0.5 0.2 0.03)")})
+    status = plan.main([BASIS, problem])
+    captured = capsys.readouterr()
+    assert (status, captured.out) == (2, "")
+    assert captured.err.splitlines() == [f"{problem}:8:5: error: scene object 'a': overlaps 'b' by 4.8 cm "
+                                         "at their scene poses"]
+
+
+def test_movable_object_is_blamed_over_the_furniture_it_sinks_into(write_files, capsys):
+    table = '    (table :asset "table" :position (0.6 0 0) :fixed)\n'
+    text = SCENE.format(a="(0.5 0 0)").replace(table, "").replace(":on table)))", ":on table)\n" + table + "))")
+    (problem,) = write_files(**{"p.pddl": text})
+    assert run_check(capsys, BASIS, problem) == (
+        2, [f"{problem}:7:5: error: scene object 'a': overlaps 'table' by 2.7 cm at their scene poses"])
+
+
+def test_fixed_object_far_away_is_an_error(write_files, capsys):
+    text = SCENE.format(a="(0.5 0 0.026)").replace("(0.6 0 0) :fixed", "(0.6 50 0) :fixed")
+    (problem,) = write_files(**{"p.pddl": text})
+    assert run_check(capsys, BASIS, problem) == (
+        2, [f"{problem}:6:5: error: scene object 'table': is 50.0 m from the robot base; a fixed object must be "
+            "within 5.0 m of it"])
+
+
+def test_object_with_nothing_under_it_is_an_error(write_files, capsys):
+    text = SCENE.format(a="(0.5 0 0.026)").replace("(0.6 0 0) :fixed", "(0.6 1.5 0) :fixed")  # beside them
+    (problem,) = write_files(**{"p.pddl": text})
+    assert run_check(capsys, BASIS, problem) == (
+        2, [f"{problem}:7:5: error: scene object 'b': has nothing under it: it would fall (the world has no floor)"])
+
+
+def test_scene_and_init_disagreeing_is_a_warning(write_files, capsys):
+    (problem,) = write_files(**{"p.pddl": SCENE.format(a="(0.5 0.2 0.078)")})  # a stands on b
+    assert run_check(capsys, BASIS, problem) == (
+        0, [f"{problem}: warning: the scene and :init disagree: (support a b) holds in the scene, "
+            "(support a table) is not true in the scene"])
+
+
+def test_clean_scene_passes(write_files, capsys):
+    (problem,) = write_files(**{"p.pddl": SCENE.format(a="(0.5 0 0.026)")})
+    assert run_check(capsys, BASIS, problem) == (0, [])
+
+
+def test_stream_domain_problem_needs_a_scene(write_files, capsys):
+    text = SCENE.format(a="()").split("  (:scene")[0] + ")\n"
+    (problem,) = write_files(**{"p.pddl": text})
+    assert run_check(capsys, BASIS, problem) == (
+        2, [f"{problem}:1:1: error: problem 'p' has no :scene; domain 'mech-basis' has streams, so the planner "
+            "needs the physical scene"])
+
+
+def test_stream_with_an_unknown_sampler_is_an_error(write_files, capsys):
+    fragment = f"""(define (domain extra) (:extends "{BASIS}")
+  (:stream sample-grip :inputs (?x - item) :outputs (?g - grasp) :certified (valid-grasp ?x ?g)
+    :sampler "grsp"))
+"""
+    (path,) = write_files(**{"extra.pddl": fragment})
+    assert run_check(capsys, path) == (
+        2, [f"{path}:2:3: error: stream 'sample-grip' uses sampler 'grsp', which does not exist (did you mean "
+            "'grasp'?); known: contact, grasp, placement, push, trajectory"])

@@ -1,0 +1,46 @@
+"""Classical planning never loads the simulator or the numeric stack (what keeps `plan` and
+`check` starting in ~0.1 s), PyBullet loads without its banner, and `bench startup` runs."""
+import json
+import os
+import subprocess
+import sys
+
+from pdsketch_mech.bench import __main__ as bench
+
+from conftest import DATA, ROOT
+
+HEAVY = ("pybullet", "scipy", "torch", "trimesh", "ompl")
+BLOCKS = [os.path.join(DATA, "ipc", "blocks", "domain.pddl"), os.path.join(DATA, "ipc", "blocks", "p01.pddl")]
+
+
+def loaded_heavy_modules(code: str):
+    """The heavy top-level packages in sys.modules after running `code` in a fresh interpreter."""
+    script = f"import sys\n{code}\nprint(sorted({{m.split('.')[0] for m in sys.modules}} & {set(HEAVY)!r}))"
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=ROOT, check=True)
+    return done.stdout.strip().splitlines()[-1]
+
+
+def test_importing_plan_and_check_loads_nothing_heavy():
+    assert loaded_heavy_modules("import pdsketch_mech.plan, pdsketch_mech.check") == "[]"
+
+
+def test_checking_and_planning_classical_files_loads_nothing_heavy():
+    code = (f"from pdsketch_mech import check, plan\n"
+            f"assert check.main({BLOCKS!r}) == 0 and plan.main({BLOCKS!r}) == 0")
+    assert loaded_heavy_modules(code) == "[]"
+
+
+def test_pybullet_loads_without_its_banner_from_any_module():
+    done = subprocess.run([sys.executable, "-c", "import pdsketch_mech, pybullet; pybullet.connect(pybullet.DIRECT)"],
+                          capture_output=True, text=True, cwd=ROOT, check=True)
+    assert (done.stdout, done.stderr) == ("", "")
+
+
+def test_bench_startup_reports_every_case(tmp_path, capsys):
+    out = tmp_path / "startup.json"
+    assert bench.main(["startup", "--runs", "1", "--json", str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("startup: median of 1 fresh processes") and len(lines) == 4
+    figures = json.loads(out.read_text())
+    assert [c["target_s"] for c in figures["cases"]] == [0.3, 0.3, None]
+    assert all(c["median_s"] > 0 for c in figures["cases"])
