@@ -36,6 +36,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         remaining = max(0.1, args.timeout - (time.perf_counter() - started))
         result = bilevel_plan(loaded, problem, world, timeout=remaining, seed=args.seed,
                               use_mechanisms=not args.basis_only)
+    result.time_s = time.perf_counter() - started  # what the user waited, start-up included
     entries = plan_entries(result)
     for entry in entries:
         note = f"  ; {entry['mechanism']}" if entry["mechanism"] else ""
@@ -48,7 +49,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
             write_plan_json(args.json, result.status, result.reason or result.status, result.time_s, args.seed,
                             entries, result.stats)
         except OSError as exc:
-            print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
+            print_error(PddlError(f"--json {args.json}: cannot write: {exc.strerror or exc}"))
             return EXIT_BAD_INPUT
     if args.render and result.status == "solved":
         recorder = Recorder()
