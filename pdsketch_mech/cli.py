@@ -42,7 +42,8 @@ def print_warning(warning: PddlWarning) -> None:
 def run(main: Callable[[], int]) -> int:
     """Run a command's `main`, turning a closed pipe (`| head`) or Ctrl-C into a quiet exit."""
     try:
-        return main()
+        with process.main_running():
+            return main()
     except BrokenPipeError:
         _silence_stdout()
         return EXIT_OK

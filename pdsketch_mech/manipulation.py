@@ -19,9 +19,14 @@ from .world.build import build_world
 from .world.motion import seed_motion_planning
 from .world.render import save_gif
 
+# Seconds before the limit at which the planner stops taking new work: the step in flight
+# (one sample and simulation, up to ~0.5 s) and writing the results end near the limit.
+FINISH_MARGIN = 0.25
+
 
 def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: Problem, started: float) -> int:
-    """Plan within `args.timeout` seconds counted from `started` (time.perf_counter())."""
+    """Plan within `args.timeout` seconds counted from `started` (a time.perf_counter() value:
+    the start of the process for the command line)."""
     if problem.scene is None:
         print_error(PddlError(f"problem '{problem.name}' has no :scene; domain '{loaded.domain.name}' has "
                               "streams, so the planner needs the physical scene", problem.loc))
@@ -33,7 +38,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         print_error(error)
         return EXIT_BAD_INPUT
     with world:
-        remaining = max(0.1, args.timeout - (time.perf_counter() - started))
+        remaining = max(0.1, args.timeout - (time.perf_counter() - started) - FINISH_MARGIN)
         result = bilevel_plan(loaded, problem, world, timeout=remaining, seed=args.seed,
                               use_mechanisms=not args.basis_only)
     result.time_s = time.perf_counter() - started  # what the user waited, start-up included

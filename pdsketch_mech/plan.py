@@ -67,13 +67,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
-    if args.skeletons is not None:
-        return _print_skeletons(loaded, problem, args.skeletons, started + args.timeout)
-    if loaded.domain.streams:
-        from .manipulation import plan_manipulation  # imports PyBullet and torch-free samplers
-        return plan_manipulation(args, loaded, problem, started)
-    remaining = args.timeout - (time.perf_counter() - started)
-    result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, max(remaining, 1e-3))
+    try:  # grounding may still find a formula it cannot expand (too many alternatives)
+        if args.skeletons is not None:
+            return _print_skeletons(loaded, problem, args.skeletons, started + args.timeout)
+        if loaded.domain.streams:
+            from .manipulation import plan_manipulation  # imports PyBullet and torch-free samplers
+            return plan_manipulation(args, loaded, problem, started)
+        remaining = args.timeout - (time.perf_counter() - started)
+        result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, max(remaining, 1e-3))
+    except PddlError as error:
+        print_error(error)
+        return EXIT_BAD_INPUT
     result.time_s = time.perf_counter() - started
     for name, plan_args in result.plan:
         print(f"({' '.join((name,) + plan_args)})")

@@ -3,11 +3,14 @@
 - Time limits (`plan --timeout`) and reported times count from the start of the process, as
   a user with a stopwatch does: interpreter start-up and imports included.
 - Ctrl-C ends a command within `GRACE` seconds with exit status 130 and the line
-  `interrupted`, at any moment. The handler raises `KeyboardInterrupt` as Python's default
-  does (`cli.run` turns it into the line and the status) and also starts a watchdog: some
-  libraries swallow the exception — trimesh imports its optional dependencies inside
+  `interrupted`, at any moment. While the command's `main` runs, the handler raises
+  `KeyboardInterrupt` as Python's default does (`cli.run` turns it into the line and the
+  status, after `finally` blocks have run) and also starts a watchdog: some libraries
+  swallow the exception — trimesh imports its optional dependencies inside
   `except BaseException`, so a Ctrl-C during its import vanished and the run went on to
-  its full time limit — and then the watchdog ends the process itself.
+  its full time limit — and then the watchdog ends the process itself. Before `main` runs
+  (module imports) and after it returns, there is nothing to clean up: the process ends
+  at once.
 
 Only processes running one of our commands (`python -m pdsketch_mech.X`) install the
 handler (the package's `__init__` does it first thing); a library user's process is left
@@ -15,18 +18,20 @@ alone.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
 import threading
 import time
-from typing import Optional, Sequence
+from typing import Iterator, Optional, Sequence
 
 GRACE = 0.3           # seconds a KeyboardInterrupt gets to end the process on its own
 EXIT_INTERRUPTED = 130
 
 _interrupted = threading.Event()
 _reported = threading.Event()
+_in_main = threading.Event()  # KeyboardInterrupt is only raised where `cli.run` catches it
 
 
 def _process_age() -> Optional[float]:
@@ -76,6 +81,16 @@ def install_interrupt_handler() -> None:
         signal.signal(signal.SIGINT, _on_interrupt)
 
 
+@contextlib.contextmanager
+def main_running() -> Iterator[None]:
+    """Marks the span in which a Ctrl-C is raised as KeyboardInterrupt (see the module doc)."""
+    _in_main.set()
+    try:
+        yield
+    finally:
+        _in_main.clear()
+
+
 def report_interrupt() -> int:
     """Print `interrupted` (once) and return the exit status, for the KeyboardInterrupt handler."""
     if not _reported.is_set():
@@ -88,6 +103,8 @@ def _on_interrupt(signum, frame) -> None:
     if _interrupted.is_set():
         return  # a second Ctrl-C: the watchdog is already counting
     _interrupted.set()
+    if not _in_main.is_set():
+        _force_exit()
     watchdog = threading.Timer(GRACE, _force_exit)
     watchdog.daemon = True
     watchdog.start()

@@ -1,7 +1,7 @@
 """`python -m pdsketch_mech.bench SUBCOMMAND ...`: benchmark entry point.
 
-Exit codes: 0 the benchmark ran, 1 one of our plans failed validation (a correctness bug),
-2 bad input (one `error: ...` line on stderr).
+Exit codes: 0 the benchmark ran, 1 one of our plans failed validation or the fuzzer found
+a failure (a correctness bug), 2 bad input (one `error: ...` line on stderr).
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from typing import List, Optional, Sequence
 
 from ..cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit,
-    seconds, seed,
+    seconds, seed, write_json,
 )
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
@@ -87,6 +87,22 @@ def run_startup_command(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def run_fuzz_command(args: argparse.Namespace) -> int:
+    """`fuzz`: check mutants of every shipped .pddl file; exit 1 on any crash, hang or error
+    without a line and column."""
+    from . import fuzz
+
+    report = fuzz.run_fuzz(args.mutants, args.seed, args.subprocess_every, progress=True)
+    for failure in report.failures:
+        print(f"{failure.kind}: {failure.file} ({' + '.join(failure.mutations)}): {failure.detail}")
+    print(report.summary())
+    if args.json:
+        write_json(args.json, {"seed": args.seed, "counts": dict(report.counts), "seconds": report.seconds,
+                               "subprocess_runs": report.subprocess_runs,
+                               "failures": [asdict(f) for f in report.failures]})
+    return EXIT_UNSOLVED if report.failures else EXIT_OK
+
+
 def run_plan_command(args: argparse.Namespace) -> int:
     """`plan`: solve each PROBLEM (with DOMAIN) over N seeds and print the summary table."""
     from . import plans
@@ -126,6 +142,13 @@ def build_parser() -> argparse.ArgumentParser:
     startup.add_argument("--runs", type=count, default=7, metavar="N", help="timed runs per command (default 7)")
     startup.add_argument("--json", metavar="FILE", help="write the figures as JSON")
     startup.set_defaults(func=run_startup_command)
+    fuzz = commands.add_parser("fuzz", help="hostile input: check mutants of every shipped .pddl file")
+    fuzz.add_argument("--mutants", type=count, default=3000, metavar="N", help="how many (default 3000)")
+    fuzz.add_argument("--seed", type=seed, default=0, metavar="N", help="random seed (default 0)")
+    fuzz.add_argument("--subprocess-every", type=count, default=100, metavar="K",
+                      help="also run every K-th mutant as a separate process (default 100)")
+    fuzz.add_argument("--json", metavar="FILE", help="write the counts and failures as JSON")
+    fuzz.set_defaults(func=run_fuzz_command)
     solve = commands.add_parser("plan", help="manipulation problems over several seeds: time and samples")
     solve.add_argument("domain", metavar="DOMAIN", help="domain file (e.g. domains/basis.pddl or a mechanism)")
     solve.add_argument("problems", nargs="+", metavar="PROBLEM", help="problem files")
