@@ -109,7 +109,8 @@ def test_time_s_counts_the_start_of_the_process(tmp_path):
     wall = time.perf_counter() - started
     assert done.returncode == 0, done.stderr
     time_s = json.loads(out.read_text())["time_s"]
-    assert wall - 0.15 < time_s < wall  # everything but the last writes and the exit
+    # Everything but the last writes and the exit; the kernel dates a process in 10 ms ticks.
+    assert wall - 0.15 < time_s < wall + 0.01
 
 
 @pytest.mark.slow
