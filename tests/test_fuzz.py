@@ -42,9 +42,3 @@ def test_mutants_get_one_located_line_or_pass():
     assert report.failures == [], report.summary()
     assert report.counts["error"] > 0 and report.counts["ok"] > 0
     assert report.subprocess_runs == 15
-
-
-@pytest.mark.slow
-def test_three_thousand_mutants():
-    report = run_fuzz(mutants=3000, seed=1, subprocess_every=100)
-    assert report.failures == [], report.summary()
