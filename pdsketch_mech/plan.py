@@ -61,7 +61,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         loaded, problem = load_problem(args.problem, [loaded])
         inputs = [*loaded.files, args.problem]
         for error in (output_error(args.json, "--json", inputs, (".json",)),
-                      output_error(args.render, "--render", inputs + [args.json or ""], (".gif",))):
+                      output_error(args.render, "--render", inputs, (".gif",))):
             if error is not None:
                 raise error
     except PddlError as error:
