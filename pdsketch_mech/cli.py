@@ -49,6 +49,12 @@ def run(main: Callable[[], int]) -> int:
         return EXIT_OK
     except KeyboardInterrupt:
         return process.report_interrupt()
+    except BaseException:
+        # After a Ctrl-C, any exception is its consequence: a library that swallowed the
+        # KeyboardInterrupt may fail next (trimesh: TypeError on a half-imported module).
+        if process.interrupted():
+            return process.report_interrupt()
+        raise
 
 
 def run_and_exit(main: Callable[[], int]) -> NoReturn:

@@ -71,7 +71,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if args.skeletons is not None:
             return _print_skeletons(loaded, problem, args.skeletons, started + args.timeout)
         if loaded.domain.streams:
-            from .manipulation import plan_manipulation  # imports PyBullet and torch-free samplers
+            from .planner.plan_command import plan_manipulation  # imports PyBullet: only for scenes
             return plan_manipulation(args, loaded, problem, started)
         remaining = args.timeout - (time.perf_counter() - started)
         result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, max(remaining, 1e-3))

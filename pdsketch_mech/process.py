@@ -26,7 +26,7 @@ import threading
 import time
 from typing import Iterator, Optional, Sequence
 
-GRACE = 0.3           # seconds a KeyboardInterrupt gets to end the process on its own
+GRACE = 0.15          # seconds a KeyboardInterrupt gets to end the process on its own
 EXIT_INTERRUPTED = 130
 
 _interrupted = threading.Event()
@@ -89,6 +89,11 @@ def main_running() -> Iterator[None]:
         yield
     finally:
         _in_main.clear()
+
+
+def interrupted() -> bool:
+    """Whether Ctrl-C was pressed."""
+    return _interrupted.is_set()
 
 
 def report_interrupt() -> int:

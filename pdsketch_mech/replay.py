@@ -9,7 +9,7 @@ from typing import Optional, Sequence
 
 from .cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, output_error, print_error, print_warning,
-    run_and_exit, seed,
+    run_and_exit,
 )
 from .lang.errors import PddlError
 from .lang.loader import load_domain, load_problem
@@ -22,7 +22,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("plan", metavar="PLAN.json", help="a plan written by `plan --json`")
     parser.add_argument("domains", nargs="*", metavar="DOMAIN", help="its domain (default: found beside it)")
     parser.add_argument("--render", metavar="FILE.gif", help="save the replay as a GIF")
-    parser.add_argument("--seed", type=seed, default=0, metavar="N", help="seed for retreat IK (default 0)")
     args = parser.parse_args(argv)
     try:
         domains = [load_domain([d]) for d in args.domains]
@@ -42,12 +41,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
     try:
         recorder = Recorder() if args.render else None
-        result = replay(domain, problem, steps, seed=args.seed, recorder=recorder)
+        result = replay(domain, problem, steps, recorder=recorder)
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
     if args.render:
-        save_gif(result.frames, args.render)
+        save_gif(recorder.frames, args.render)
     print(f"replay: {len(steps)} steps; {result.message}", file=sys.stderr)
     return EXIT_OK if result.goal_reached else EXIT_UNSOLVED
 

@@ -16,8 +16,8 @@ from pdsketch_mech.world.asset_index import ASSETS_DIR, load_manifest, resolve_a
 
 CATEGORIES = ["block", "brick", "box", "small-block", "bowl", "plate", "document", "calculator", "caliper",
               "spoon", "fork", "soup-ladle", "dipper", "spatula", "hairbrush", "hammer", "wooden-stick",
-              "l-stick", "walnut", "banana", "apple", "ball", "table", "slope", "tunnel"]
-FIXED = {"table", "slope", "tunnel"}
+              "l-stick", "walnut", "banana", "apple", "ball", "table", "slope", "tunnel", "ledge"]
+FIXED = {"table", "slope", "tunnel", "ledge"}
 
 
 @pytest.fixture(scope="module")

@@ -7,11 +7,12 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
 
-from pdsketch_mech import assets, check, plan, process, render, replay
+from pdsketch_mech import assets, check, cli, plan, process, render, replay
 from pdsketch_mech.bench import __main__ as bench
 
 from conftest import DATA, ROOT
@@ -45,7 +46,7 @@ def one_error_line(capsys, main, argv) -> str:
     (plan.main, [CLASSICAL[0]], "the following arguments are required: PROBLEM"),
     (plan.main, [*CLASSICAL, "--seed", "\x1b[31m"], "argument --seed: expected a whole number, got '\\x1b[31m'"),
     (check.main, [], "the following arguments are required: FILE"),
-    (replay.main, [PICK, "x.json", "--seed", "-1"], "argument --seed: must be a whole number from 0"),
+    (replay.main, [PICK, "x.json", "--render"], "argument --render: expected one argument"),
     (render.main, [PICK, "--distance", "nan"], "argument --distance: must be a finite number from 0.05 to 100"),
     (render.main, [PICK, "--yaw", "inf"], "argument --yaw: must be a finite number, got 'inf'"),
     (assets.main, ["--out", PICK], f"--out {PICK}: is a file, not a folder"),
@@ -94,6 +95,24 @@ def test_command_module_reads_the_interpreter_command_line():
     assert process.command_module(["python", "-X", "importtime", "-mpdsketch_mech.check"]) == "pdsketch_mech.check"
     assert process.command_module(["python", "script.py", "-m", "x"]) is None
     assert process.command_module(["python", "-c", "pass"]) is None
+
+
+def test_an_exception_after_ctrl_c_counts_as_the_interrupt(capsys, monkeypatch):
+    # trimesh swallows a KeyboardInterrupt during its imports, then fails with a TypeError.
+    monkeypatch.setattr(process, "interrupted", lambda: True)
+    monkeypatch.setattr(process, "_reported", threading.Event())  # `interrupted` is printed once a process
+
+    def main():
+        raise TypeError("unsupported operand type(s) for |: 'ExceptionWrapper' and 'NoneType'")
+
+    assert cli.run(main) == 130
+    assert capsys.readouterr().err == "interrupted\n"
+
+
+def test_without_ctrl_c_an_exception_is_a_bug_and_propagates(monkeypatch):
+    monkeypatch.setattr(process, "interrupted", lambda: False)
+    with pytest.raises(TypeError):
+        cli.run(lambda: None + 1)
 
 
 def test_a_library_caller_is_not_a_command():

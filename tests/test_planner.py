@@ -12,6 +12,7 @@ from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.operators import basis
 from pdsketch_mech.planner.bilevel import bilevel_plan
 from pdsketch_mech.planner.replay import replay
+from pdsketch_mech.planner.serialize import plan_entries
 from pdsketch_mech.samplers.contact import sample_contacts
 from pdsketch_mech.samplers.grasp import sample_grasps
 from pdsketch_mech.samplers.placement import sample_placements
@@ -47,7 +48,7 @@ def test_grasp_then_place_change_the_contact_graph():
     with build_world(problem) as world:
         world.settle()
         grasp, trajectory = first(sample_grasps(world, "block", rng), lambda g: grasp_motion(world, "block", g, rng))
-        assert basis.grasp(world, "block", grasp, trajectory, rng).ok
+        assert basis.grasp(world, "block", grasp, trajectory).ok
         graph = read_contacts(world)
         assert graph.holding == "block" and ("block", "table") not in graph.support
         held = world.snapshot()
@@ -56,7 +57,7 @@ def test_grasp_then_place_change_the_contact_graph():
             trajectory = place_motion(world, placement, rng)
             if trajectory is None:
                 continue
-            if not basis.place(world, "block", placement, trajectory, rng).ok:  # e.g. no retreat
+            if not basis.place(world, "block", placement, trajectory).ok:  # e.g. no retreat
                 world.restore(held)
                 continue
             graph = read_contacts(world)
@@ -77,7 +78,7 @@ def test_push_moves_the_object_and_keeps_its_support():
         before = np.array(world.pose("block")[0])
         contact, trajectory = first(sample_contacts(world, "block", "table", rng),
                                     lambda c: push_motion(world, c, rng))
-        assert basis.push(world, contact, trajectory, rng).ok
+        assert basis.push(world, contact, trajectory).ok
         moved = np.array(world.pose("block")[0]) - before
         assert np.linalg.norm(moved[:2]) > 0.02                       # pushed at least 2 cm
         assert np.dot(moved[:2], contact.direction[:2]) > 0          # along the push
@@ -90,8 +91,7 @@ def test_planner_solves_and_the_plan_replays(name):
     with build_world(problem) as world:
         result = bilevel_plan(domain, problem, world, timeout=60, seed=0)
     assert result.status == "solved", result.stats
-    from pdsketch_mech.manipulation import plan_entries
-    entries = json.loads(json.dumps(plan_entries(result)))  # through JSON, as a saved plan would be
+    entries = json.loads(json.dumps(plan_entries(result.steps, result.values)))  # through JSON, as a saved plan would be
     replayed = replay(domain, problem, entries)
     assert replayed.goal_reached, replayed.message
 

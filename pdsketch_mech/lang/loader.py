@@ -71,7 +71,19 @@ def _collect(path: str, out: List[Tuple[str, Domain]], stack: Tuple[str, ...]) -
         if os.path.realpath(base_path) in stack + (key,):
             raise PddlError(f"'{base}' is extended in a cycle", domain.loc)
         _collect(base_path, out, stack + (key,))
+    _check_sampler_files(path, domain)
     out.append((path, domain))
+
+
+def _check_sampler_files(path: str, domain: Domain) -> None:
+    """A mechanism's `:sampler` names a checkpoint file beside its fragment: it must exist."""
+    for mechanism in domain.mechanisms:
+        if mechanism.sampler is None:
+            continue
+        checkpoint = os.path.normpath(os.path.join(os.path.dirname(path), mechanism.sampler))
+        if not os.path.isfile(checkpoint):
+            raise PddlError(f"mechanism '{mechanism.name}': :sampler file '{mechanism.sampler}' not found "
+                            f"(looked for {checkpoint})", mechanism.loc)
 
 
 def merge_domains(base: Domain, extra: Domain) -> Domain:

@@ -1,16 +1,23 @@
 """transit, transit-cont, grasp, place, move, move-cont: each runs its trajectory in the world
-and lets the world settle. Whether the outcome is what the operator promised is read back
-from the simulated contact graph by the planner, not assumed here."""
+and lets the world settle. Free-space segments are collision-checked before they are
+followed; contacts (closing the fingers, lifts, pushes, retreats) are simulated. Whether
+the outcome is what the operator promised is read back from the simulated contact graph
+by the planner, not assumed here; what an operator can see fail itself (the hand not at
+the grasp, a finger missing the object, a push that never touches) it reports."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Optional
 
 import numpy as np
+import pybullet as p
 
+from ..samplers.grasp import grasp_opening
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
+from ..world.attachment import relative_pose
 from ..world.robot import CLOSED, MAX_OPENING
-from .execution import Recorder, follow, follow_dynamic, retreat
+from .execution import (ExecutionError, Recorder, fingers_touching, follow, follow_dynamic, move_straight,
+                        set_fingers_dynamic)
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -18,6 +25,8 @@ if TYPE_CHECKING:
 LIFT = 0.10     # metres up after a grasp
 BACK = 0.06     # metres back after a placement or a push
 UP = (0.0, 0.0, 1.0)
+GRASP_POSITION_TOLERANCE = 5e-3            # metres between the hand and the stored grasp
+GRASP_ANGLE_TOLERANCE = np.radians(5.0)
 
 
 @dataclass(frozen=True)
@@ -27,59 +36,98 @@ class Outcome:
 
 
 def _approach_axis(world: "World") -> np.ndarray:
-    import pybullet as p
     return np.array(p.getMatrixFromQuaternion(world.tcp_pose()[1])).reshape(3, 3)[:, 2]
 
 
-def transit(world: "World", trajectory: Trajectory, rng: np.random.Generator,
-            recorder: Optional[Recorder] = None) -> Outcome:
-    follow(world, trajectory.waypoints(), recorder)
-    return Outcome(True)
+def _guarded(run) -> Outcome:
+    try:
+        return run() or Outcome(True)
+    except ExecutionError as error:
+        return Outcome(False, str(error))
 
 
-move = transit  # holding something: the world carries it along with the hand
+def transit(world: "World", trajectory: Trajectory, recorder: Optional[Recorder] = None) -> Outcome:
+    """transit and move: a free-space motion (holding something or not)."""
+    return _guarded(lambda: follow(world, trajectory.waypoints(), "motion", recorder=recorder))
 
 
-def grasp(world: "World", obj: str, grasp_: Grasp, trajectory: Trajectory, rng: np.random.Generator,
+move = transit
+
+
+def grasp_error(world: "World", grasp_: Grasp) -> Optional[str]:
+    """Why the hand is not at `grasp_` relative to its object (None when it is)."""
+    actual = relative_pose(world.pose(grasp_.object), world.tcp_pose())
+    offset = float(np.linalg.norm(np.subtract(actual[0], grasp_.in_object[0])))
+    dot = abs(float(np.dot(actual[1], grasp_.in_object[1])))
+    angle = 2 * float(np.arccos(min(1.0, dot)))
+    if offset > GRASP_POSITION_TOLERANCE or angle > GRASP_ANGLE_TOLERANCE:
+        return (f"the hand is {offset * 1000:.1f} mm and {np.degrees(angle):.1f} deg from the grasp of "
+                f"{grasp_.object}")
+    return None
+
+
+def grasp(world: "World", obj: str, grasp_: Grasp, trajectory: Trajectory,
           recorder: Optional[Recorder] = None) -> Outcome:
-    """Approach, close the fingers on the object, hold it, lift it."""
-    if world.attachment is not None:
-        return Outcome(False, f"already holding {world.attachment.name}")
-    follow(world, trajectory.approach, recorder)
-    follow(world, trajectory.final, recorder)
-    world.set_fingers(min(MAX_OPENING / 2, grasp_.width / 2))
-    world.attach(obj)
-    if not retreat(world, UP, LIFT, rng, recorder):
-        return Outcome(False, "no straight lift after the grasp")
-    world.settle()
-    return Outcome(True)
+    """Approach, hold the object where the hand is, close the fingers on it, lift it."""
+    def run() -> Optional[Outcome]:
+        if world.attachment is not None:
+            return Outcome(False, f"already holding {world.attachment.name}")
+        if grasp_.object != obj:
+            return Outcome(False, f"the grasp is of {grasp_.object}, not {obj}")
+        world.set_fingers(grasp_opening(grasp_.width) / 2)  # in free space; the approach is checked so
+        follow(world, trajectory.approach, "approach", recorder=recorder)
+        follow(world, trajectory.final, "final approach", recorder=recorder)
+        error = grasp_error(world, grasp_)
+        if error:
+            return Outcome(False, error)
+        # The constraint first, then the fingers: closing fingers must not shove the object
+        # away from the sampled grasp (the constraint keeps it there while they squeeze).
+        world.attach(obj)
+        set_fingers_dynamic(world, CLOSED, recorder)
+        touching = fingers_touching(world, obj)
+        if touching < 2:
+            return Outcome(False, f"{'one finger' if touching else 'neither finger'} touches {obj} when closed")
+        move_straight(world, UP, LIFT, "lift", recorder)
+        world.settle()
+        return None
+    return _guarded(run)
 
 
-def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory, rng: np.random.Generator,
+def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory,
           recorder: Optional[Recorder] = None) -> Outcome:
     """Carry the object above the placement, lower it, let go, back off, let it settle."""
-    follow(world, trajectory.approach, recorder)
-    follow(world, trajectory.final, recorder)
-    world.detach()
-    world.set_fingers(MAX_OPENING / 2)
-    if not retreat(world, -_approach_axis(world), BACK, rng, recorder):
-        return Outcome(False, "no straight retreat after the placement")
-    world.settle()
-    return Outcome(True)
+    def run() -> Optional[Outcome]:
+        if world.attachment is None or world.attachment.name != obj:
+            return Outcome(False, f"not holding {obj}")
+        follow(world, trajectory.approach, "approach", recorder=recorder)
+        follow(world, trajectory.final, "descent", recorder=recorder)
+        world.detach()
+        set_fingers_dynamic(world, MAX_OPENING / 2, recorder)
+        move_straight(world, -_approach_axis(world), BACK, "retreat", recorder)
+        world.settle()
+        return None
+    return _guarded(run)
 
 
-def push(world: "World", contact: Contact, trajectory: Trajectory, rng: np.random.Generator,
-         recorder: Optional[Recorder] = None) -> Outcome:
+def push(world: "World", contact: Contact, trajectory: Trajectory, recorder: Optional[Recorder] = None) -> Outcome:
     """transit-cont (bare gripper) and move-cont (a held tool): approach behind the contact,
     push with the position controllers while the simulation runs, back off, settle."""
-    bare = contact.pusher is None
-    follow(world, trajectory.approach, recorder)
-    if bare:
-        world.set_fingers(CLOSED)
-    follow_dynamic(world, trajectory.final, recorder)
-    back = -np.asarray(contact.direction, dtype=float)
-    ok = retreat(world, back, BACK, rng, recorder) and retreat(world, UP, LIFT, rng, recorder)
-    if bare:
-        world.set_fingers(MAX_OPENING / 2)
-    world.settle()
-    return Outcome(ok, "" if ok else "no straight retreat after the push")
+    def run() -> Optional[Outcome]:
+        bare = contact.pusher is None
+        held = world.attachment.name if world.attachment else None
+        if held != contact.pusher:
+            return Outcome(False, f"the pusher is {contact.pusher or 'the bare hand'} but the hand holds "
+                                  f"{held or 'nothing'}")
+        follow(world, trajectory.approach, "approach", recorder=recorder)
+        if bare:
+            set_fingers_dynamic(world, CLOSED, recorder)
+        touched = follow_dynamic(world, trajectory.final, "push", recorder)
+        move_straight(world, -np.asarray(contact.direction, dtype=float), BACK, "retreat", recorder)
+        move_straight(world, UP, LIFT, "lift", recorder)
+        if bare:
+            set_fingers_dynamic(world, MAX_OPENING / 2, recorder)
+        world.settle()
+        if contact.target not in touched:
+            return Outcome(False, f"the push never touched {contact.target}")
+        return None
+    return _guarded(run)

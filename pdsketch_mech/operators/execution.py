@@ -1,19 +1,34 @@
-"""Following joint trajectories: teleported through free space, position-controlled
-(with physics) when the motion is meant to push something."""
+"""Following joint trajectories, checked: free-space segments are teleported only after every
+configuration along them has been collision-checked, contact motions (pushes, lifts,
+retreats, closing the fingers) run with the position controllers and physics on.
+
+Execution never trusts a trajectory: a path that does not start where the arm is, or that
+passes through anything, is refused with the reason. This is what makes `replay` a check
+of a plan file, and the planner's own executions the same code path as replay's.
+"""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, List, Optional, Sequence
+from typing import TYPE_CHECKING, Optional, Sequence, Set
 
 import numpy as np
+import pybullet as p
 
-from ..world.motion import cartesian_path
+from ..world.motion import cartesian_path, path_collision
 from ..world.render import Camera, render
+from ..world.robot import FINGER_JOINTS
 
 if TYPE_CHECKING:
     from ..world.world import World
 
 STEPS_PER_WAYPOINT = 8   # ~33 ms of simulated time per 1 cm waypoint: pushes move at ~0.3 m/s
-SETTLE_AFTER_PUSH = 60
+SETTLE_AFTER_MOTION = 60
+START_TOLERANCE = 1e-3   # radians: a trajectory must start at the arm's configuration
+CONTACT_DISTANCE = 2e-3  # metres: a finger this close to the object touches it
+FINGER_STEPS = 120       # physics steps at most for the fingers to close or open
+
+
+class ExecutionError(Exception):
+    """A motion that cannot be executed as given (the message says why)."""
 
 
 class Recorder:
@@ -29,33 +44,80 @@ class Recorder:
             self.frames.append(render(world, self.camera))
 
 
-def follow(world: "World", path: Sequence[Sequence[float]], recorder: Optional[Recorder] = None) -> None:
-    """Teleport the arm (and what it holds) along a collision-checked path."""
+def _check_start(world: "World", path: Sequence[Sequence[float]], what: str) -> None:
+    gap = float(np.max(np.abs(np.asarray(path[0], dtype=float) - world.arm())))
+    if gap > START_TOLERANCE:
+        raise ExecutionError(f"the {what} starts {gap:.3f} rad away from the arm's configuration")
+
+
+def follow(world: "World", path: Sequence[Sequence[float]], what: str, ignore: Sequence[str] = (),
+           recorder: Optional[Recorder] = None) -> None:
+    """Teleport the arm (and what it holds) along `path` once it is known collision-free."""
+    if not len(path):
+        return
+    _check_start(world, path, what)
+    hit = path_collision(world, path, ignore)
+    if hit is not None:
+        raise ExecutionError(f"the {what} collides with {hit}")
     for q in path:
         world.set_arm(q)
         if recorder:
             recorder.tick(world)
+    world.reset_contact_caches()  # contacts cached before the teleport describe nothing real
 
 
-def follow_dynamic(world: "World", path: Sequence[Sequence[float]], recorder: Optional[Recorder] = None) -> None:
-    """Drive the arm along `path` with its position controllers, simulating contacts."""
+def follow_dynamic(world: "World", path: Sequence[Sequence[float]], what: str,
+                   recorder: Optional[Recorder] = None) -> Set[str]:
+    """Drive the arm along `path` with its position controllers, simulating contacts; returns
+    the objects the hand, or what it holds, touched on the way."""
+    touched: Set[str] = set()
+    if not len(path):
+        return touched
+    _check_start(world, path, what)
+    names = {body.id: name for name, body in world.bodies.items()}
+    movers = [world.robot] + ([world.bodies[world.attachment.name].id] if world.attachment else [])
     for q in path:
         world.arm_targets = np.asarray(q, dtype=float)
         world.step(STEPS_PER_WAYPOINT)
+        for mover in movers:
+            for contact in p.getContactPoints(bodyA=mover, physicsClientId=world.client):
+                if contact[2] in names and contact[8] < CONTACT_DISTANCE:
+                    touched.add(names[contact[2]])
         if recorder:
             recorder.tick(world)
-    world.step(SETTLE_AFTER_PUSH)
+    world.step(SETTLE_AFTER_MOTION)
+    if world.attachment:
+        touched.discard(world.attachment.name)
+    return touched
 
 
-def retreat(world: "World", direction: Sequence[float], distance: float, rng: np.random.Generator,
-            recorder: Optional[Recorder] = None) -> bool:
-    """Move the gripper straight along `direction` (teleported); False if IK cannot."""
-    path = cartesian_path(world, world.arm(), direction, distance, rng)
+def move_straight(world: "World", direction: Sequence[float], distance: float, what: str,
+                  recorder: Optional[Recorder] = None) -> Set[str]:
+    """Move the gripper straight along `direction` with physics on (a lift, a retreat)."""
+    # IK here draws no random restarts (it is seeded with the current configuration), so
+    # the same state always gives the same motion.
+    path = cartesian_path(world, world.arm(), direction, distance, np.random.default_rng(0))
     if path is None:
-        return False
-    follow(world, path, recorder)
-    return True
+        raise ExecutionError(f"no straight {what}")
+    return follow_dynamic(world, path, what, recorder)
 
 
-def segments(*parts: np.ndarray) -> List[np.ndarray]:
-    return [part for part in parts if len(part)]
+def set_fingers_dynamic(world: "World", half_width: float, recorder: Optional[Recorder] = None) -> None:
+    """Drive both fingers to `half_width` with physics until they stop (on an object or at the target)."""
+    world.finger_target = half_width
+    previous = None
+    for step in range(FINGER_STEPS):
+        world.step()
+        now = [s[0] for s in p.getJointStates(world.robot, FINGER_JOINTS, physicsClientId=world.client)]
+        if previous is not None and step >= 10 and max(abs(a - b) for a, b in zip(now, previous)) < 1e-5:
+            break
+        previous = now
+    if recorder:
+        recorder.tick(world, force=True)
+
+
+def fingers_touching(world: "World", obj: str) -> int:
+    """How many of the two fingers touch `obj`."""
+    body = world.bodies[obj].id
+    return sum(bool([c for c in p.getContactPoints(world.robot, body, link, -1, physicsClientId=world.client)
+                     if c[8] < CONTACT_DISTANCE]) for link in FINGER_JOINTS)

@@ -22,8 +22,10 @@ from ..symbolic.skeletons import iter_skeletons
 from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
+from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
-from .refine import Refinement, Step, contact_mask, observed_state, skeleton_steps
+from .refine import Refinement, Step, skeleton_steps
+from .serialize import plan_entries
 
 FIRST_SLICE = 8     # simulated steps a skeleton gets in its first round (work, not seconds:
 SLICE_GROWTH = 1.5  # the interleaving, and so the plan, must not depend on machine speed)
@@ -58,22 +60,30 @@ def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = 
 
 
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
-                 use_mechanisms: bool = True, max_skeletons: int = 200) -> PlanResult:
-    """Plan in `world` (left as it was) within `timeout` seconds."""
+                 use_mechanisms: bool = True, max_skeletons: int = 200, validate: bool = True) -> PlanResult:
+    """Plan in `world` (a fresh world of `problem`'s scene; left as it was) within `timeout`
+    seconds. With `validate`, a refined skeleton counts only once it has been re-executed
+    in another fresh world, as `replay` does, and reached the goal there."""
     start = time.perf_counter()
     deadline = start + timeout
     rng = np.random.default_rng(seed)
     task, placeholders = prepare_task(domain, problem, use_mechanisms)
     counts: Counter = Counter()
     sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts)
-    world.settle()
+    warnings = settle_start(world)
     initial = world.snapshot()
     stats: Dict[str, object] = {"skeletons": 0, "samples": counts, "operators": len(task.operators),
-                                "executions": 0, "symbolic_s": 0.0, "continuous_s": 0.0}
+                                "executions": 0, "rejected": 0, "symbolic_s": 0.0, "continuous_s": 0.0}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
-        stats["warning"] = mismatch
+        warnings.append(mismatch)
+    if warnings:
+        stats["warnings"] = warnings
+
+    def in_fresh_world(steps: List[Step], values: List[Dict[str, object]]) -> Optional[str]:
+        result = execute_plan(task, problem, plan_entries(steps, values))
+        return None if result.goal_reached else f"in a fresh world, {result.message}"
     skeletons = iter_skeletons(task, deadline=deadline)
     active: List[Refinement] = []
     failures: Counter = Counter()
@@ -92,7 +102,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                     # Each skeleton draws from its own generator, seeded in creation order.
                     skeleton_rng = np.random.default_rng(rng.integers(1 << 63))
                     active.append(Refinement(skeleton_steps(task, plan), initial, world, task, sampler,
-                                             skeleton_rng))
+                                             skeleton_rng, in_fresh_world if validate else None))
             if not active and not more:
                 break
             for refinement in list(active):
@@ -104,22 +114,31 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                     return _result("solved", refinement, values, start, stats, failures + refinement.failures)
                 if refinement.exhausted:
                     active.remove(refinement)
-                    failures += refinement.failures
-                    stats["executions"] += refinement.executions
+                    failures += _retire(refinement, stats)
             budget *= SLICE_GROWTH
     finally:
         world.restore(initial)
     for refinement in active:
-        failures += refinement.failures
-        stats["executions"] += refinement.executions
+        failures += _retire(refinement, stats)
     stats["sim_steps"] = world.sim_steps - sim_start
-    reason = "timed out" if time.perf_counter() >= deadline else "no skeleton could be refined"
-    return PlanResult("unsolved", time_s=time.perf_counter() - start, stats=_finish_stats(stats, failures),
-                      reason=reason)
+    elapsed = time.perf_counter() - start
+    if time.perf_counter() >= deadline:
+        reason = f"timed out after {elapsed:.1f} s"
+    elif stats["skeletons"] == 0:
+        reason = "no plan exists: no sequence of operators reaches the goal symbolically"
+    else:
+        reason = f"no plan exists: none of the {stats['skeletons']} skeletons could be refined"
+    return PlanResult("unsolved", time_s=elapsed, stats=_finish_stats(stats, failures), reason=reason)
+
+
+def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
+    stats["executions"] += refinement.executions
+    stats["rejected"] += refinement.rejected
+    return refinement.failures
 
 
 def _result(status: str, refinement: Refinement, values, start: float, stats, failures) -> PlanResult:
-    stats["executions"] += refinement.executions
+    _retire(refinement, stats)
     return PlanResult(status, refinement.steps, values, time.perf_counter() - start, _finish_stats(stats, failures))
 
 

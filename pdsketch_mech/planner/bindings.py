@@ -1,4 +1,4 @@
-"""Streams -> Python samplers (by their `:sampler` name) and actions -> operator runners.
+"""Streams -> Python samplers (by their `:sampler` name).
 
 A step such as `(grasp box table #grasp3 #traj4)` gets its placeholder values from the
 streams that created them (`sample-grasp` for #grasp3, `plan-grasp-motion` for #traj4),
@@ -7,17 +7,15 @@ sampled in dependency order in the world as it is before the step.
 from __future__ import annotations
 
 from collections import Counter
-from typing import Callable, Dict, Iterator, List, Mapping, Optional, Sequence
+from typing import Callable, Dict, Iterator, List, Mapping, Sequence
 
 import numpy as np
 
 from ..lang.nodes import Atom, Stream
-from ..operators import basis
 from ..samplers.contact import sample_contacts
 from ..samplers.grasp import sample_grasps
 from ..samplers.placement import sample_placements
 from ..samplers.trajectory import free_motion, grasp_motion, place_motion, push_motion
-from ..samplers.types import Contact, Grasp, Placement, Trajectory
 from ..symbolic.optimistic import Placeholder, is_placeholder
 from ..world.world import World
 
@@ -103,21 +101,3 @@ class StepSampler:
             if not root and drawn >= per_value:
                 break
         values.pop(name, None)
-
-
-def run_step(world: World, action: str, args: Sequence[str], values: Mapping[str, object],
-             rng: np.random.Generator, recorder=None) -> basis.Outcome:
-    """Execute basis operator `action` with its arguments' sampled values."""
-    bound = [values.get(a, a) for a in args]
-    of = lambda kind: next((v for v in bound if isinstance(v, kind)), None)  # noqa: E731
-    trajectory: Optional[Trajectory] = of(Trajectory)
-    if action == "grasp":
-        return basis.grasp(world, args[0], of(Grasp), trajectory, rng, recorder)
-    if action == "place":
-        return basis.place(world, args[0], of(Placement), trajectory, rng, recorder)
-    if action in ("transit-cont", "move-cont"):
-        return basis.push(world, of(Contact), trajectory, rng, recorder)
-    if action in ("transit", "move"):
-        return basis.transit(world, trajectory, rng, recorder)
-    raise ValueError(f"action '{action}' has no operator implementation; basis operators are "
-                     "transit, transit-cont, grasp, place, move, move-cont")

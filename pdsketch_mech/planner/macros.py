@@ -12,7 +12,7 @@ from collections import defaultdict
 from itertools import product
 from typing import Dict, Iterator, List, Optional, Sequence, Tuple
 
-from ..lang.nodes import Domain, Mechanism, Problem, Var
+from ..lang.nodes import Domain, Formula, Mechanism, Problem, Var
 from ..lang.typecheck import TypeTable
 from ..symbolic.grounding import objects_by_type
 from ..symbolic.normalize import dnf, substitute
@@ -71,9 +71,10 @@ def _unify(term: str, value: str, env: Dict[str, str]) -> bool:
 
 def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], task: StripsTask,
              objects) -> Optional[Operator]:
-    pre, neg = _precondition(mechanism, binding, task, objects)
-    if pre is None:
+    alternatives = formula_masks(mechanism.precondition, binding, task, objects)
+    if not alternatives:
         return None
+    pre, neg = alternatives[0]  # its first satisfiable disjunct
     added = deleted = 0
     for op_id in step_ids:
         op = task.operators[op_id]
@@ -85,12 +86,18 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
         deleted = (deleted & ~op.add) | op.delete
     if pre & neg:
         return None
-    return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids))
+    certified = tuple(formula_masks(mechanism.certified, binding, task, objects))
+    if not certified:
+        return None  # it promises what can never hold here
+    return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids),
+                    certified=certified)
 
 
-def _precondition(mechanism: Mechanism, binding, task: StripsTask, objects) -> Tuple[Optional[int], int]:
-    """The mechanism's own precondition as masks (its first satisfiable disjunct)."""
-    for conjunct in dnf(substitute(mechanism.precondition, binding), objects):
+def formula_masks(formula: Formula, binding, task: StripsTask, objects) -> List[Tuple[int, int]]:
+    """A formula over the task's facts as alternatives of (true, false) masks, one per
+    satisfiable disjunct (static facts and equalities evaluated away)."""
+    out = []
+    for conjunct in dnf(substitute(formula, binding), objects):
         pre = neg = 0
         ok = True
         for lit in conjunct:
@@ -108,5 +115,5 @@ def _precondition(mechanism: Mechanism, binding, task: StripsTask, objects) -> T
                 equal = atom.left.name == atom.right.name
                 ok = ok and equal == lit.positive
         if ok:
-            return pre, neg
-    return None, 0
+            out.append((pre, neg))
+    return out

@@ -10,18 +10,21 @@ import itertools
 import time
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ..symbolic.task import StripsTask
-from ..world.contacts import read_contacts
 from ..world.snapshot import Snapshot
 from ..world.world import World
-from .bindings import StepSampler, run_step
+from .bindings import StepSampler
+from .execute import contact_mask, execute_step, observed_state
 
-CONTACT_PREDICATES = ("holding", "support", "handempty")
 TRIES_PER_VISIT = 3  # parameter samples tried at a step before backtracking to the one before
+
+# Checks a refined skeleton must pass before it counts (the planner re-executes it in a
+# fresh world): the values of every step in, an error message (or None) out.
+Validator = Callable[[List["Step"], List[Dict[str, object]]], Optional[str]]
 
 
 @dataclass(frozen=True)
@@ -30,25 +33,7 @@ class Step:
     args: Tuple[str, ...]
     expected: int                 # symbolic state the step must produce
     mechanism: Optional[str] = None
-
-
-def contact_mask(task: StripsTask) -> int:
-    """The task facts the simulation can observe (the contact-mode graph)."""
-    mask = 0
-    for fact, i in task.fact_ids.items():
-        if fact[0] in CONTACT_PREDICATES:
-            mask |= 1 << i
-    return mask
-
-
-def observed_state(task: StripsTask, world: World) -> int:
-    """The contact-graph facts true in the world, as task bits."""
-    state = 0
-    for fact in read_contacts(world).facts():
-        i = task.fact_ids.get(tuple(fact))
-        if i is not None:
-            state |= 1 << i
-    return state
+    certified: Tuple[Tuple[int, int], ...] = ()  # the last step of a mechanism: what it promised
 
 
 @dataclass
@@ -61,8 +46,10 @@ class Refinement:
     task: StripsTask
     sampler: StepSampler
     rng: np.random.Generator
+    validate: Optional[Validator] = None
     failures: Counter = field(default_factory=Counter)
     executions: int = 0
+    rejected: int = 0             # refinements the fresh-world re-execution refused
     exhausted: bool = False
 
     def __post_init__(self) -> None:
@@ -105,8 +92,7 @@ class Refinement:
                 return None
             if i == 0:
                 self.root_yields += 1
-            world.restore(self.snapshots[i])
-            outcome = run_step(world, step.name, step.args, values, self.rng)
+            outcome = execute_step(world, self.snapshots[i], step.name, step.args, values)
             self.executions += 1
             if not outcome.ok:
                 self.failures[f"{step.name}: {outcome.reason}"] += 1
@@ -115,22 +101,44 @@ class Refinement:
             if (observed ^ step.expected) & self.observable:
                 self.failures[f"{step.name}: simulated contacts differ from the skeleton"] += 1
                 continue
+            if step.certified and not self._certified(step, observed):
+                self.failures[f"{step.mechanism}: its :certified facts do not hold after its steps"] += 1
+                continue
             self.values[i] = values
             self.snapshots[i + 1] = world.snapshot()
             self.generators[i + 1:] = [None] * (len(self.steps) - i - 1)
             self.depth += 1
             if self.depth == len(self.steps):
-                return list(self.values)
+                error = self.validate(self.steps, list(self.values)) if self.validate else None
+                if error is None:
+                    return list(self.values)
+                # Not a plan after all: count it and look for other values of the last step.
+                self.rejected += 1
+                self.failures[f"rejected: {error}"] += 1
+                self.depth -= 1
         return None
+
+    def _certified(self, step: Step, observed: int) -> bool:
+        """Some alternative of the mechanism's promise holds: observable facts as simulated,
+        the others as the skeleton has them."""
+        state = (observed & self.observable) | (step.expected & ~self.observable)
+        return any(state & pre == pre and not state & neg for pre, neg in step.certified)
 
 
 def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
-    """Basis steps of a skeleton with the state each must produce (macros expanded)."""
+    """Basis steps of a skeleton with the state each must produce (macros expanded). The
+    artificial steps that reach a disjunctive goal have no physical content: the states
+    the real steps must produce already satisfy one disjunct."""
     steps, state = [], task.init
     for op_id in plan:
         op = task.operators[op_id]
-        for basis_id in op.steps or (op_id,):
+        if op.artificial:
+            continue
+        expansion = op.steps or (op_id,)
+        for k, basis_id in enumerate(expansion):
             basis = task.operators[basis_id]
             state = task.successor(state, basis)
-            steps.append(Step(basis.name, basis.args, state, op.name if basis_id != op_id else None))
+            last = k == len(expansion) - 1
+            steps.append(Step(basis.name, basis.args, state, op.name if basis_id != op_id else None,
+                              op.certified if last and op.steps else ()))
     return steps

@@ -1,11 +1,14 @@
 """Sampled values <-> JSON, so a plan's continuous parameters can be saved and replayed."""
 from __future__ import annotations
 
-from typing import Any, Dict
+from typing import TYPE_CHECKING, Any, Dict, List, Sequence
 
 import numpy as np
 
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
+
+if TYPE_CHECKING:
+    from .refine import Step
 
 
 def _pose(pose) -> list:
@@ -28,9 +31,17 @@ def to_json(value: object) -> Dict[str, Any]:
                 "pusher_pose": _pose(value.pusher_pose), "direction": list(map(float, value.direction)),
                 "point": list(map(float, value.point)), "normal": list(map(float, value.normal))}
     if isinstance(value, Trajectory):
-        return {"type": "trajectory", "kind": value.kind, "approach": np.round(value.approach, 6).tolist(),
-                "final": np.round(value.final, 6).tolist(), "push_distance": value.push_distance}
+        # Full precision: replay must execute exactly what the planner executed.
+        return {"type": "trajectory", "kind": value.kind, "approach": value.approach.tolist(),
+                "final": value.final.tolist(), "push_distance": value.push_distance}
     raise TypeError(f"cannot serialise {type(value).__name__}")
+
+
+def plan_entries(steps: Sequence["Step"], values: Sequence[Dict[str, object]]) -> List[Dict[str, Any]]:
+    """A refined skeleton as the `plan` entries of the JSON document (what `replay` reads)."""
+    return [{"name": step.name, "args": list(step.args), "mechanism": step.mechanism,
+             "params": {name: to_json(value) for name, value in step_values.items()}}
+            for step, step_values in zip(steps, values)]
 
 
 def from_json(data: Dict[str, Any]) -> object:

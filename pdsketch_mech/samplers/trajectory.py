@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING, Iterator, Optional, Sequence
 import numpy as np
 import pybullet as p
 
-from ..world.motion import cartesian_path, plan_motion
+from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, MAX_CHECKS, cartesian_path, path_collision, plan_motion
+from .grasp import grasp_opening
 from .types import Contact, Grasp, Placement, Pose, Trajectory
 
 if TYPE_CHECKING:
@@ -34,30 +35,37 @@ def _approach_axis(tcp: Pose) -> np.ndarray:
 
 
 def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], final_distance: float,
-            rng: np.random.Generator, kind: str, ignore: Sequence[str] = (), timeout: float = 1.0,
+            rng: np.random.Generator, kind: str, ignore: Sequence[str] = (),
             push_distance: Optional[float] = None) -> Optional[Trajectory]:
     """RRT to `goal_tcp` moved back by `final_distance` along `final_direction`, then the
-    straight segment forward."""
+    straight segment forward (from the pre-pose, included). The straight segment of a grasp
+    or a placement is collision-checked here, as executed; a push's is simulated instead."""
     direction = np.asarray(final_direction, dtype=float)
     direction /= np.linalg.norm(direction)
     pre = (tuple(np.asarray(goal_tcp[0]) - direction * final_distance), goal_tcp[1])
     start = world.arm()
-    q_pre = world.kinematics.ik(pre[0], pre[1], rng, seed=start)
+    # As precise as the straight segment after it: that segment starts wherever q_pre puts the hand.
+    q_pre = world.kinematics.ik(pre[0], pre[1], rng, seed=start, pos_tol=LINE_POS_TOL, ang_tol=LINE_ANG_TOL)
     if q_pre is None:
         return None
-    result = plan_motion(world, start, q_pre, ignore=ignore, timeout=timeout, seed=int(rng.integers(1 << 30)))
+    result = plan_motion(world, start, q_pre, ignore=ignore, seed=int(rng.integers(1 << 30)))
     if result.path is None:
         return None
     final = cartesian_path(world, q_pre, direction, final_distance + (push_distance or 0.0), rng)
     if final is None:
         return None
-    return Trajectory(kind, result.path, final[1:], push_distance=push_distance)
+    if push_distance is None and path_collision(world, final, ignore) is not None:
+        return None
+    return Trajectory(kind, result.path, final, push_distance=push_distance)
 
 
 def grasp_motion(world: "World", obj: str, grasp: Grasp, rng: np.random.Generator) -> Optional[Trajectory]:
-    """To the pre-grasp, then along the approach axis to the grasp."""
+    """To the pre-grasp, then along the approach axis to the grasp, the fingers open to the
+    grasp's opening (as the grasp operator opens them before it moves)."""
     tcp = compose(world.pose(obj), grasp.in_object)
-    return _motion(world, tcp, _approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
+    with world.saved():
+        world.set_fingers(grasp_opening(grasp.width) / 2)
+        return _motion(world, tcp, _approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
 
 
 def place_motion(world: "World", placement: Placement, rng: np.random.Generator) -> Optional[Trajectory]:
@@ -83,7 +91,7 @@ def free_motion(world: "World", rng: np.random.Generator, kind: str = "free",
         q = world.kinematics.ik(target, down, rng, seed=world.arm())
         if q is None:
             continue
-        result = plan_motion(world, world.arm(), q, timeout=0.5, seed=int(rng.integers(1 << 30)))
+        result = plan_motion(world, world.arm(), q, max_checks=MAX_CHECKS // 2, seed=int(rng.integers(1 << 30)))
         if result.path is not None:
             return Trajectory(kind, result.path)
     return None

@@ -37,6 +37,7 @@ class Operator:
     conditional: Tuple[ConditionalEffect, ...] = ()
     artificial: bool = False  # compiled goal disjunctions; never shown in plans
     steps: Tuple[int, ...] = ()  # a mechanism (macro): the ids of its basis operators, in order
+    certified: Tuple[Tuple[int, int], ...] = ()  # a mechanism's promise: alternatives of (true, false) masks
 
     @property
     def label(self) -> str:

@@ -7,7 +7,7 @@ PyBullet also reports near-contacts inside its margin; only penetrations deeper 
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Collection, Iterable, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Collection, Iterable, Optional, Sequence
 
 import pybullet as p
 
@@ -17,18 +17,6 @@ if TYPE_CHECKING:
     from .world import World
 
 PENETRATION = 5e-4  # metres
-
-
-def disable_touching_self_pairs(world: "World") -> List[Tuple[int, int]]:
-    """Turn off self-collision for robot link pairs already touching at the current (home)
-    configuration: the hand and fingers overlap by design."""
-    p.performCollisionDetection(physicsClientId=world.client)
-    pairs = sorted({tuple(sorted((c[3], c[4])))
-                    for c in p.getContactPoints(world.robot, world.robot, physicsClientId=world.client)
-                    if c[8] < 0})
-    for a, b in pairs:
-        p.setCollisionFilterPair(world.robot, world.robot, a, b, 0, physicsClientId=world.client)
-    return pairs
 
 
 class CollisionChecker:
@@ -49,7 +37,7 @@ class CollisionChecker:
         held_id: Optional[int] = None
         if world.attachment is not None:
             held_id = world.bodies[world.attachment.name].id
-            world.set_pose(world.attachment.name, world._held_pose())
+            world.set_pose(world.attachment.name, world.held_pose())
         p.performCollisionDetection(physicsClientId=client)
         for contact in p.getContactPoints(bodyA=world.robot, physicsClientId=client):
             other = contact[2]

@@ -2,8 +2,12 @@
 
 OMPL 2.0.1 (nanobind) traps, from DESIGN.md: index states only with explicit `range(n)`,
 test success with `haveExactSolutionPath()`, check start and goal validity first, and keep
-OMPL objects inside functions (module-level ones print "leaked" at exit). OMPL's random
-seed is process-wide: `seed_motion_planning(seed)` sets it before the first plan.
+OMPL objects inside functions (module-level ones print "leaked" at exit).
+
+Determinism: a query's answer must depend on its seed alone, never on the machine's load
+or on earlier queries. OMPL gives each new planner (and path simplifier) a generator
+seeded from a process-wide seed sequence, so every query re-seeds that sequence first; and
+RRT stops after a number of collision checks, not after a wall-clock time.
 """
 from __future__ import annotations
 
@@ -25,15 +29,16 @@ ou.setLogLevel(ou.LOG_NONE)  # failures are reported by MotionResult.reason
 RESOLUTION = 0.05   # radians between consecutive waypoints of a returned path
 CHECK_STEP = 0.01   # radians between collision checks along an edge (OMPL's setting is relative
                     # to the space's extent, ~13 rad here: 0.005 of it missed thin obstacles)
-_seeded = False
+LINE_POS_TOL = 1e-3  # metres and radians off the line: a grasp executed from it lands within
+LINE_ANG_TOL = 1e-2  # millimetres of the sampled one
+MAX_CHECKS = 8000     # collision checks an RRT query may use (~1 s on this machine)
 
 
-def seed_motion_planning(seed: int) -> None:
-    """Seed OMPL's process-wide generator; only the first call in a process takes effect."""
-    global _seeded
-    if not _seeded:
-        ou.RNG.setSeed(int(seed) % (2 ** 31 - 1) + 1)
-        _seeded = True
+def _seed_ompl(seed: int) -> None:
+    """Restart OMPL's seed sequence: the planner and simplifier allocated next draw from it.
+    (OMPL logs an error when re-seeding after the first draw; the log is off and the reseed
+    does take effect, which `test_motion_plans_depend_on_the_seed_alone` checks.)"""
+    ou.RNG.setSeed(int(seed) % (2 ** 31 - 1) + 1)
 
 
 @dataclass
@@ -44,10 +49,10 @@ class MotionResult:
 
 
 def plan_motion(world: "World", start: Sequence[float], goal: Sequence[float], ignore: Sequence[str] = (),
-                timeout: float = 1.0, seed: int = 0) -> MotionResult:
+                max_checks: int = MAX_CHECKS, seed: int = 0) -> MotionResult:
     """A collision-free joint path from `start` to `goal` (the arm carries what it holds;
-    bodies in `ignore` may be touched). The world is restored afterwards."""
-    seed_motion_planning(seed)
+    bodies in `ignore` may be touched), found with at most `max_checks` collision checks;
+    the same query and seed always give the same path. The world is restored afterwards."""
     checker = CollisionChecker(world, ignore)
     limits = world.kinematics.limits
     with world.saved():
@@ -59,9 +64,10 @@ def plan_motion(world: "World", start: Sequence[float], goal: Sequence[float], i
                 return MotionResult(None, f"{label} configuration is in collision with {hit}", checker.checks)
         if _segment_free(checker, start, goal):
             return MotionResult(_interpolate([start, goal]), checks=checker.checks)
-        path = _rrt_connect(checker, limits.lower, limits.upper, start, goal, timeout)
+        _seed_ompl(seed)
+        path = _rrt_connect(checker, limits.lower, limits.upper, start, goal, checker.checks + max_checks)
     if path is None:
-        return MotionResult(None, f"no path found in {timeout:.2f} s", checker.checks)
+        return MotionResult(None, f"no path found in {max_checks} collision checks", checker.checks)
     return MotionResult(_interpolate(path), checks=checker.checks)
 
 
@@ -71,7 +77,7 @@ def _segment_free(checker: CollisionChecker, a: Sequence[float], b: Sequence[flo
     return not any(checker.collides(a + (b - a) * t) for t in np.linspace(0.0, 1.0, n))
 
 
-def _rrt_connect(checker: CollisionChecker, lower, upper, start, goal, timeout: float) -> Optional[List[np.ndarray]]:
+def _rrt_connect(checker: CollisionChecker, lower, upper, start, goal, check_limit: int) -> Optional[List[np.ndarray]]:
     n = len(ARM_JOINTS)
     space = ob.RealVectorStateSpace(n)
     bounds = ob.RealVectorBounds(n)
@@ -89,7 +95,7 @@ def _rrt_connect(checker: CollisionChecker, lower, upper, start, goal, timeout: 
         goal_state[i] = float(np.clip(goal[i], lower[i], upper[i]))
     setup.setStartAndGoalStates(start_state, goal_state)
     setup.setPlanner(og.RRTConnect(info))
-    setup.solve(timeout)
+    setup.solve(ob.PlannerTerminationCondition(lambda: checker.checks >= check_limit))
     if not setup.haveExactSolutionPath():
         return None
     setup.simplifySolution()
@@ -108,9 +114,24 @@ def _interpolate(waypoints: Sequence[Sequence[float]], resolution: float = RESOL
 
 def path_is_free(world: "World", path: np.ndarray, ignore: Sequence[str] = (), step: float = CHECK_STEP) -> bool:
     """Every configuration along the densely interpolated path is collision-free."""
+    return path_collision(world, path, ignore, step) is None
+
+
+def path_collision(world: "World", path: Sequence[Sequence[float]], ignore: Sequence[str] = (),
+                   step: float = CHECK_STEP) -> Optional[str]:
+    """None if every configuration along the densely interpolated path is collision-free
+    (a single waypoint is checked too); else what the first colliding one hits."""
     checker = CollisionChecker(world, ignore)
     with world.saved():
-        return all(_segment_free(checker, a, b, step) for a, b in zip(path, path[1:]))
+        points = [np.asarray(q, dtype=float) for q in path]
+        pairs = list(zip(points, points[1:])) if len(points) > 1 else [(q, q) for q in points]
+        for a, b in pairs:
+            n = max(2, int(np.ceil(np.max(np.abs(b - a)) / step)) + 1)
+            for t in np.linspace(0.0, 1.0, n):
+                q = a + (b - a) * t
+                if checker.collides(q):
+                    return ", ".join(sorted(checker.colliding_bodies(q))) or "itself"
+    return None
 
 
 def cartesian_path(world: "World", start: Sequence[float], direction: Sequence[float], distance: float,
@@ -126,7 +147,7 @@ def cartesian_path(world: "World", start: Sequence[float], direction: Sequence[f
     n = max(1, int(np.ceil(distance / step)))
     for k in range(1, n + 1):
         target = np.asarray(position) + direction * distance * k / n
-        q = kin.ik(target, orientation, rng, seed=qs[-1], restarts=1)
+        q = kin.ik(target, orientation, rng, seed=qs[-1], restarts=1, pos_tol=LINE_POS_TOL, ang_tol=LINE_ANG_TOL)
         if q is None or np.max(np.abs(q - qs[-1])) > max_joint_jump:
             return None
         qs.append(q)

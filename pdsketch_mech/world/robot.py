@@ -37,6 +37,18 @@ def load_panda(client: int, base: Pose = ((0, 0, 0), (0, 0, 0, 1)), self_collisi
     return p.loadURDF(PANDA_URDF, base[0], base[1], useFixedBase=True, flags=flags, physicsClientId=client)
 
 
+def disable_touching_self_pairs(client: int, robot: int) -> List[Tuple[int, int]]:
+    """Turn off self-collision for robot link pairs already touching at the current (home)
+    configuration: the hand and fingers overlap by design."""
+    p.performCollisionDetection(physicsClientId=client)
+    pairs = sorted({tuple(sorted((c[3], c[4])))
+                    for c in p.getContactPoints(robot, robot, physicsClientId=client)
+                    if c[8] < 0})
+    for a, b in pairs:
+        p.setCollisionFilterPair(robot, robot, a, b, 0, physicsClientId=client)
+    return pairs
+
+
 @dataclass(frozen=True)
 class JointLimits:
     lower: np.ndarray

@@ -7,7 +7,8 @@ part becomes its own `<collision>` element. All sizes are in metres.
 Design frame of a model (before `urdf.py` moves the link frame to the centre of mass):
 z up, the object in its natural resting pose with its lowest point at z = 0, the long axis
 along +x. Furniture keeps its design frame as the link frame: the table's top surface is
-at z = 0 (legs below), slopes and tunnels stand on z = 0, centred in x and y.
+at z = 0 (legs below), slopes and tunnels stand on z = 0, centred in x and y; a ledge stands
+on z = 0 with the centre of the plate it cradles at the origin.
 """
 from __future__ import annotations
 
@@ -270,6 +271,26 @@ def _tunnel(height: float, width: float, length: float, wall: float = 0.02) -> P
     return walls + [floor_box((length, width + 2 * wall, wall), z0=height)]
 
 
+def _ledge(radius: float, height: float = 0.02, margin: float = 0.02, gap: float = 0.009,
+           wall: float = 0.015, wall_above: float = 0.03, back: float = 0.1, segments: int = 12) -> Parts:
+    # A lever's fulcrum for a plate of `radius` (the Lever task): a `height` platform whose
+    # +x edge, `margin` beyond the cradle's centre (the origin), is the fulcrum; beyond it a pit
+    # down to the table, closed by a curved wall `gap` outside the plate's rim. A plate centred
+    # on the origin rests flat (its centre of mass over the platform) with every rim point that
+    # overhangs the pit hemmed in by the wall: no finger fits outside it, so the plate cannot be
+    # grasped until a weight on the overhang tips that side into the pit and the other side up.
+    outer = radius + gap + wall
+    platform = box((margin + radius + back, 2 * outer, height), ((margin - radius - back) / 2, 0.0, height / 2))
+    angles = np.radians(np.linspace(-90.0, 90.0, segments + 1))
+    parts = [platform]
+    for a, b in zip(angles, angles[1:]):
+        # Inner corners on the circle radius + gap: a chord only comes closer at its middle.
+        pts = [(r * math.cos(t), r * math.sin(t), z) for r in (radius + gap, outer) for t in (a, b)
+               for z in (0.0, height + wall_above)]
+        parts.append(hull(pts))
+    return parts
+
+
 def _v(description: str, **params: object) -> Variant:
     return Variant(dict(params), description)
 
@@ -375,8 +396,17 @@ CATEGORIES: Dict[str, Category] = {c.name: c for c in [
     Category("tunnel", _tunnel, (_v("tunnel, inside 10 cm wide x 8 cm high x 25 cm long",
                                     height=0.08, width=0.1, length=0.25),
                                  _v("narrow tunnel, inside 9 x 7 x 22 cm", height=0.07, width=0.09, length=0.22),
-                                 _v("wide tunnel, inside 12 x 9 x 30 cm", height=0.09, width=0.12, length=0.3)),
+                                 _v("wide tunnel, inside 12 x 9 x 30 cm", height=0.09, width=0.12, length=0.3),
+                                 # Short ones for the Poking task: a 22-35 cm tool pokes a block out.
+                                 _v("short tunnel, inside 10 x 8 x 16 cm", height=0.08, width=0.1, length=0.16),
+                                 _v("short tunnel, inside 11 x 8.5 x 18 cm", height=0.085, width=0.11,
+                                    length=0.18)),
              0.0, 0.5, (0.6, 0.6, 0.6, 1.0), fixed=True),
+    # The Lever task's fulcrum, one per plate size (plate/0, plate/1, plate/2).
+    Category("ledge", _ledge, (_v("ledge cradling a 22 cm plate: 2 cm platform, pit, curved wall", radius=0.11),
+                               _v("ledge cradling a 20 cm plate", radius=0.10),
+                               _v("ledge cradling a 24 cm plate", radius=0.12)),
+             0.0, 0.6, (0.5, 0.5, 0.58, 1.0), fixed=True),
 ]}
 
 

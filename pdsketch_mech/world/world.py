@@ -4,23 +4,24 @@ Every call passes `physicsClientId`, so worlds in one process (and across proces
 share simulator state. Poses are those of the URDF link frame, whatever the inertial
 frame: PyBullet reports a base's centre-of-mass frame, which we convert.
 
-Grasping attaches the held object to the hand with a fixed constraint (the fingers close on
-it too, for looks and contacts): a constraint is deterministic and lets a held tool push
-other objects hard, which pure finger friction in PyBullet does unreliably.
+Grasping attaches the held object to the hand with a fixed constraint (`attachment.py`) and
+closes the fingers on it: a constraint is deterministic and lets a held tool push other
+objects hard, which pure finger friction in PyBullet does unreliably.
 """
 from __future__ import annotations
 
 import contextlib
 from dataclasses import dataclass
-from typing import Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
 
 from ..lang.scene import SceneObject
+from .attachment import Attachment, compose, create_attachment, hand_inertial, held_pose, relative_pose, release
 from .robot import (ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, REACH, SHOULDER, TCP_LINK, WRIST,
-                    Kinematics, Pose, load_panda)
-from .snapshot import Snapshot, restore_snapshot, take_snapshot
+                    Kinematics, Pose, disable_touching_self_pairs, load_panda)
+from .snapshot import Collider, Snapshot, collider_groups, reset_contact_caches, restore_snapshot, take_snapshot
 
 TIME_STEP = 1.0 / 240.0
 GRIPPER_FORCE = 40.0
@@ -35,15 +36,6 @@ class Body:
     inertial: Pose  # the centre-of-mass frame in the link frame
     urdf: str = ""
     scale: float = 1.0
-
-
-@dataclass(frozen=True)
-class Attachment:
-    """The held object, its pose in the hand frame, and the constraint holding it."""
-
-    name: str
-    in_hand: Pose
-    constraint: int
 
 
 class SceneError(ValueError):
@@ -66,13 +58,17 @@ class World:
         self.bodies: Dict[str, Body] = {}
         self.attachment: Optional[Attachment] = None
         self.sim_steps = 0  # physics steps simulated, for statistics
+        # Called with the world after every physics step (demonstration recording); see `step`.
+        self.observers: List[Callable[["World"], None]] = []
         self.arm_targets = np.array(HOME)
         self.finger_target = MAX_OPENING / 2
+        self.hand_com = hand_inertial(self.client, self.robot)
+        self._colliders: Optional[Tuple[Collider, ...]] = None
         self.set_arm(HOME)
         self.set_fingers(MAX_OPENING / 2)
         self._hold_position()
-        from .collision import disable_touching_self_pairs  # here: collision imports World
-        disable_touching_self_pairs(self)
+        disable_touching_self_pairs(self.client, self.robot)
+        self.reset_contact_caches()  # the canonical collision groups, from the start
 
     # ------------------------------------------------------------------ lifetime
     def close(self) -> None:
@@ -100,6 +96,7 @@ class World:
         info = p.getDynamicsInfo(body_id, -1, physicsClientId=self.client)
         body = Body(obj.name, body_id, obj.fixed, (tuple(info[3]), tuple(info[4])), urdf, scale)
         self.bodies[obj.name] = body
+        self._colliders = None
         changes = {}
         if obj.mass is not None and not obj.fixed:
             changes["mass"] = obj.mass
@@ -110,6 +107,7 @@ class World:
         if obj.color is not None:
             p.changeVisualShape(body_id, -1, rgbaColor=obj.color, physicsClientId=self.client)
         self.set_pose(obj.name, (obj.position, obj.orientation))
+        self.reset_contact_caches()
         return body
 
     def movable(self) -> List[str]:
@@ -164,7 +162,7 @@ class World:
             p.resetJointState(self.robot, j, float(value), 0.0, physicsClientId=self.client)
         self.arm_targets = np.array(q, dtype=float)
         if self.attachment is not None:
-            self.set_pose(self.attachment.name, self._held_pose())
+            self.set_pose(self.attachment.name, self.held_pose())
 
     def set_fingers(self, half_width: float) -> None:
         for j in FINGER_JOINTS:
@@ -192,15 +190,11 @@ class World:
         """The current grasp as the gripper frame's pose in the held object's frame."""
         if self.attachment is None:
             return None
-        inv = p.invertTransform(*self.pose(self.attachment.name))
-        tcp = self.tcp_pose()
-        pos, orn = p.multiplyTransforms(inv[0], inv[1], tcp[0], tcp[1])
-        return tuple(pos), tuple(orn)
+        return relative_pose(self.pose(self.attachment.name), self.tcp_pose())
 
-    def _held_pose(self) -> Pose:
-        hand = self.hand_pose()
-        pos, orn = p.multiplyTransforms(hand[0], hand[1], *self.attachment.in_hand)
-        return tuple(pos), tuple(orn)
+    def held_pose(self) -> Pose:
+        """Where the held object belongs given the hand's current pose."""
+        return held_pose(self.hand_pose(), self.attachment)
 
     def _hold_position(self) -> None:
         p.setJointMotorControlArray(self.robot, ARM_JOINTS, p.POSITION_CONTROL, targetPositions=list(self.arm_targets),
@@ -215,24 +209,18 @@ class World:
             raise RuntimeError(f"already holding '{self.attachment.name}'")
         hand = self.hand_pose()
         if in_hand is None:
-            inv = p.invertTransform(*hand)
-            obj = self.pose(name)
-            in_hand = p.multiplyTransforms(inv[0], inv[1], obj[0], obj[1])
+            in_hand = relative_pose(hand, self.pose(name))
         else:
-            self.set_pose(name, p.multiplyTransforms(hand[0], hand[1], *in_hand))
+            self.set_pose(name, compose(hand, in_hand))
         body = self.bodies[name]
-        com_in_hand = p.multiplyTransforms(in_hand[0], in_hand[1], *body.inertial)
-        constraint = p.createConstraint(self.robot, HAND_LINK, body.id, -1, p.JOINT_FIXED, (0, 0, 0),
-                                        com_in_hand[0], (0, 0, 0), com_in_hand[1], (0, 0, 0, 1),
-                                        physicsClientId=self.client)
-        p.changeConstraint(constraint, maxForce=2000, physicsClientId=self.client)
-        self.attachment = Attachment(name, (tuple(in_hand[0]), tuple(in_hand[1])), constraint)
+        self.attachment = create_attachment(self.client, self.robot, name, body.id, body.inertial, in_hand,
+                                            self.hand_com)
         return self.attachment
 
     def detach(self) -> Optional[str]:
         if self.attachment is None:
             return None
-        p.removeConstraint(self.attachment.constraint, physicsClientId=self.client)
+        release(self.client, self.attachment)
         name, self.attachment = self.attachment.name, None
         return name
 
@@ -241,7 +229,28 @@ class World:
         self._hold_position()
         for _ in range(steps):
             p.stepSimulation(physicsClientId=self.client)
-        self.sim_steps += steps
+            if self.attachment is not None:
+                self._pin_held()
+            self.sim_steps += 1
+            for observer in self.observers:  # the world as it is after this step
+                observer(self)
+
+    def _pin_held(self) -> None:
+        """Put the held object back exactly at its grasp, moving with the hand.
+
+        The grasp constraint carries the object's forces to the arm (a pulled box resists),
+        but PyBullet solves constraints softly: squeezing fingers and a turning wrist move
+        the object several millimetres and degrees off the grasp within a second. Samplers
+        and learned grasps assume the grasp holds, so after every step the object is
+        re-pinned to the hand, with the hand's velocity at that point."""
+        state = p.getLinkState(self.robot, HAND_LINK, computeLinkVelocity=1, computeForwardKinematics=True,
+                               physicsClientId=self.client)
+        body = self.bodies[self.attachment.name]
+        self.set_pose(self.attachment.name, held_pose((state[4], state[5]), self.attachment))
+        com = p.getBasePositionAndOrientation(body.id, physicsClientId=self.client)[0]
+        linear, angular = np.array(state[6]), np.array(state[7])
+        linear = linear + np.cross(angular, np.subtract(com, state[0]))  # state[0]: the hand's COM
+        p.resetBaseVelocity(body.id, linear.tolist(), angular.tolist(), physicsClientId=self.client)
 
     def settle(self, max_steps: int = 480, linear_tol: float = 2e-3, angular_tol: float = 2e-2,
                quiet_steps: int = 10) -> int:
@@ -264,11 +273,28 @@ class World:
         return max_steps
 
     # ------------------------------------------------------------------ snapshots
+    @property
+    def colliders(self) -> Tuple[Collider, ...]:
+        if self._colliders is None:
+            self._colliders = collider_groups(self.robot, {b.id: b.fixed for b in self.bodies.values()}, self.client)
+        return self._colliders
+
     def snapshot(self) -> Snapshot:
-        return take_snapshot(self)
+        movable = [body.id for body in self.bodies.values() if not body.fixed]
+        return take_snapshot(self.client, self.robot, movable, self.attachment, self.arm_targets, self.finger_target)
 
     def restore(self, snapshot: Snapshot) -> None:
-        restore_snapshot(self, snapshot)
+        """Back to `snapshot`, canonically: simulating on gives what a fresh world that
+        reached the same state would (snapshot.py)."""
+        self.attachment = restore_snapshot(
+            self.client, self.robot, snapshot, self.attachment, {n: b.id for n, b in self.bodies.items()},
+            {n: b.inertial for n, b in self.bodies.items()}, self.hand_com, self.colliders)
+        self.arm_targets = np.array(snapshot.arm_targets)
+        self.finger_target = snapshot.finger_target
+
+    def reset_contact_caches(self) -> None:
+        """Forget cached contacts (done by every restore; a fresh world calls it to match)."""
+        reset_contact_caches(self.colliders, self.client)
 
     @contextlib.contextmanager
     def saved(self) -> Iterator["World"]:

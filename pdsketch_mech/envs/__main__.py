@@ -1,0 +1,69 @@
+"""`python -m pdsketch_mech.envs TASK --seed N [--split train|test] [--out FILE]`: a problem
+file drawn from a task distribution (`--canonical`: the canonical instance; `--list`: the tasks).
+
+The same task, split and seed always give the same bytes. Exit 0, or 2 with one
+`error:` line on stderr for a bad request.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Optional, Sequence
+
+from ..cli import EXIT_BAD_INPUT, EXIT_OK, run
+
+
+def _write(path: str, text: str) -> None:
+    """Write `text` to `path` atomically (a temporary name in the same folder, then a rename)."""
+    tmp = f"{path}.tmp{os.getpid()}"
+    with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
+        handle.write(text)
+    os.replace(tmp, path)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    from .tasks import TASKS
+
+    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
+    parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}")
+    parser.add_argument("--seed", type=int, help="which instance (any integer)")
+    parser.add_argument("--split", default="train", choices=("train", "test"), help="asset split (default train)")
+    parser.add_argument("--canonical", action="store_true",
+                        help="the canonical instance: first train assets at their canonical poses")
+    parser.add_argument("--canonical-assets", action="store_true",
+                        help="with --seed: keep the canonical assets, perturb only the poses (the demos' check)")
+    parser.add_argument("--out", metavar="FILE", help="write here (default: stdout)")
+    parser.add_argument("--list", action="store_true", help="list the tasks and exit")
+    args = parser.parse_args(argv)
+
+    if args.list:
+        for task in TASKS.values():
+            print(f"{task.name:14s} {task.title}: {task.description}")
+        return EXIT_OK
+    error = None
+    if args.task is None:
+        error = "name a task (--list shows them)"
+    elif args.task not in TASKS:
+        error = f"unknown task '{args.task}'; tasks: {', '.join(TASKS)}"
+    elif args.canonical == (args.seed is not None):
+        error = "give exactly one of --seed N and --canonical"
+    elif args.out and not os.path.isdir(os.path.dirname(os.path.abspath(args.out))):
+        error = f"{args.out}: its folder does not exist"
+    if error:
+        print(f"envs: error: {error}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    from .generate import sample
+
+    instance = sample(TASKS[args.task], args.split, args.seed, vary_assets=not args.canonical_assets)
+    text = instance.problem_text()
+    if args.out:
+        _write(args.out, text)
+        print(f"wrote {args.out}: {instance.name}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)
+    return EXIT_OK
+
+
+if __name__ == "__main__":
+    sys.exit(run(main))

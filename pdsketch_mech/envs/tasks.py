@@ -1,0 +1,146 @@
+"""The six task distributions of the paper (Sec. 4.1, appendix "Mechanism Learning Setup").
+
+The robot's base is at the origin, the table (1.0 x 1.2 m) at (0.6, 0): its top spans
+x 0.1..1.1, y -0.6..0.6 at z = 0. Every movable object is perturbed by up to +-5 cm and
++-15 degrees about its canonical pose and scaled by up to +-15 % (less where the mechanism
+needs a tight fit); the test split holds out asset instances (variant 2 of most categories)
+and, for Edge, Hook and Poking, a whole category never seen in training.
+"""
+from __future__ import annotations
+
+from typing import Dict
+
+from .spec import Align, Assets, Distractors, ObjectSpec, TaskSpec
+
+TABLE_EDGE_Y = 0.6
+SCALE = (0.85, 1.15)
+LEDGE_HEIGHT = 0.02  # the ledge's platform top (world/shapes.py `_ledge`)
+
+TABLE = ObjectSpec("table", Assets(("table",), ("table",)), xy=(0.6, 0.0), on=None, fixed=True,
+                   noise_xy=(0.0, 0.0), noise_yaw=0.0, role="the table, top at z = 0")
+
+# Small household objects that stay where they are put (no balls: they roll).
+CLUTTER = ("apple/0", "apple/1", "banana/0", "banana/1", "fork/0", "fork/1", "block/1", "walnut/0", "hairbrush/1")
+
+EDGE = TaskSpec(
+    "edge", "Edge",
+    "a flat object lies on the table, too flat to grasp; pushed until it overhangs the table's "
+    "edge, it can be pinched by the overhang",
+    objects=(
+        TABLE,
+        ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/0", "calculator/1", "document/0", "document/1"),
+                                  ("caliper/0", "caliper/1", "caliper/2", "plate/2", "calculator/2", "document/2")),
+                   xy=(0.45, 0.33), yaw_by_category=(("calculator", 90.0), ("document", 90.0), ("caliper", 90.0)),
+                   scale=(0.9, 1.1), role="the flat object to pick up"),
+    ),
+    goal="(holding flat)",
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.7), (-0.45, -0.15))),
+    demo="push the flat object with the closed fingers towards +y until about 40 % of it overhangs "
+         "the table's edge, then pinch the overhang (fingers above and below it) and lift",
+)
+
+HOOK = TaskSpec(
+    "hook", "Hook",
+    "a tool lies within reach and a box beyond it; the tool pulls the box closer",
+    objects=(
+        TABLE,
+        ObjectSpec("tool", Assets(("l-stick/0", "l-stick/1", "soup-ladle/0", "soup-ladle/1", "hammer/0", "hammer/1",
+                                   "spoon/0", "spoon/1"),
+                                  ("caliper/0", "caliper/1", "caliper/2", "l-stick/2", "soup-ladle/2", "hammer/2",
+                                   "spoon/2")),
+                   xy=(0.5, 0.15), scale=(0.9, 1.15), role="the hook"),
+        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.97, 0.0), yaw=90.0, mass=0.2,
+                   friction=0.6, scale=(0.9, 1.1), role="the box out of reach"),
+    ),
+    goal="(holding target)",
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.55), (-0.45, -0.2))),
+    demo="grasp the tool by its handle, put its crook behind the box, pull the box towards the robot, "
+         "put the tool down, grasp the box",
+)
+
+LEVER = TaskSpec(
+    "lever", "Lever",
+    "a plate lies flat on a ledge, its far side over a pit hemmed in by a curved wall: no finger "
+    "gets under or around its rim until a heavy object on the overhang tips the near side up",
+    objects=(
+        TABLE,
+        ObjectSpec("ledge", Assets(("ledge/0", "ledge/1"), ("ledge/2",)), xy=(0.55, -0.12), fixed=True,
+                   role="the fulcrum: platform, pit and wall"),
+        # Paired with the ledge (ledge/i cradles plate/i) and centred in its cradle.
+        ObjectSpec("plate", Assets(("plate/0", "plate/1"), ("plate/2",)), on="ledge", frame="ledge",
+                   surface=LEDGE_HEIGHT, match="ledge", noise_xy=(0.0, 0.0), role="the plate to pick up"),
+        ObjectSpec("weight", Assets(("box/0", "box/1", "dipper/0", "dipper/1", "walnut/0", "walnut/1"),
+                                    ("box/2", "dipper/2", "walnut/2", "spoon/0", "spoon/1", "spoon/2")),
+                   xy=(0.42, 0.22), mass=0.5, friction=0.8, role="the heavy object"),
+    ),
+    goal="(holding plate)",
+    distractors=Distractors(CLUTTER, (0, 2), ((0.25, 0.45), (0.35, 0.5))),
+    demo="place the heavy object on the plate's overhang, which tips into the pit and lifts the near "
+         "side, then grasp the plate by its raised rim",
+)
+
+POKING = TaskSpec(
+    "poking", "Poking",
+    "a block sits in the middle of a short tunnel, out of the fingers' reach from either end; a long "
+    "tool pushed through the tunnel pokes it out",
+    objects=(
+        TABLE,
+        ObjectSpec("tunnel", Assets(("tunnel/3",), ("tunnel/4",)), xy=(0.58, 0.0), fixed=True,
+                   noise_yaw=10.0, role="the tunnel, along x"),
+        ObjectSpec("target", Assets(("block/0", "block/1"), ("block/2", "small-block/2")), frame="tunnel",
+                   noise_xy=(0.01, 0.01), role="the block in the tunnel"),
+        ObjectSpec("tool", Assets(("wooden-stick/0", "wooden-stick/1", "spatula/0", "spatula/2"),
+                                  ("spoon/2", "wooden-stick/2")),
+                   xy=(0.36, 0.26), scale=(1.0, 1.15), role="the poking tool"),
+    ),
+    goal="(holding target)",
+    overlaps_ok=(("target", "tunnel"),),
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.5), (-0.45, -0.25))),
+    demo="grasp the tool by its end, push it through the tunnel until the block comes out of the far "
+         "end, pull it back, put it down, grasp the block",
+)
+
+COM = TaskSpec(
+    "com", "Center-of-Mass",
+    "a plate overhangs the table's edge (so it can be grasped by its rim); it must end up resting "
+    "on a small block alone, which only a placement with its centre of mass over the block achieves",
+    objects=(
+        TABLE,
+        ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/1"), ("plate/2",)), xy=(0.38, 0.0),
+                   yaw_by_category=(("calculator", 90.0),), scale=(0.9, 1.1),
+                   align=Align("+y", TABLE_EDGE_Y, 0.38), role="the object to place"),
+        ObjectSpec("pedestal", Assets(("small-block/0", "small-block/1"), ("small-block/2",)), xy=(0.55, 0.1),
+                   mass=1.0, role="the small block"),
+    ),
+    goal="(and (support flat pedestal) (not (support flat table)) (handempty))",
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.55), (-0.45, -0.2))),
+    demo="grasp the plate's rim where it overhangs, carry it over the small block with its centre of "
+         "mass above the block's centre, lower it onto the block and let go",
+)
+
+SLOPE = TaskSpec(
+    "slope-blocker", "Slope-and-Blocker",
+    "a block slides down a slope (friction 0.6 x 0.5 < tan 20 deg); a grippy blocker laid across "
+    "the slope below it holds it there",
+    objects=(
+        TABLE,
+        ObjectSpec("slope", Assets(("slope/1",), ("slope/2",)), xy=(0.6, 0.25), fixed=True, noise_yaw=10.0,
+                   role="the slope, rising towards +x"),
+        ObjectSpec("blocker", Assets(("wooden-stick/0", "wooden-stick/1", "l-stick/0", "l-stick/1"),
+                                     ("spoon/0", "spoon/2", "wooden-stick/2", "l-stick/2")),
+                   xy=(0.42, -0.15), yaw=90.0, friction=1.5, role="the blocker (rubbery: it stays on the slope)"),
+        ObjectSpec("block", Assets(("block/0",), ("block/1",)), xy=(0.42, -0.38), role="the block to leave on the slope"),
+    ),
+    goal="(and (support block slope) (handempty))",
+    distractors=Distractors(CLUTTER, (0, 1), ((0.25, 0.35), (-0.5, -0.3))),
+    demo="lay the blocker across the slope, then put the block on the slope just above it; it slides "
+         "onto the blocker and stays",
+)
+
+TASKS: Dict[str, TaskSpec] = {t.name: t for t in (EDGE, HOOK, LEVER, POKING, COM, SLOPE)}
+
+
+def get_task(name: str) -> TaskSpec:
+    if name not in TASKS:
+        raise KeyError(f"unknown task {name!r}; tasks: {', '.join(TASKS)}")
+    return TASKS[name]

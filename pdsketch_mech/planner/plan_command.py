@@ -1,0 +1,88 @@
+"""The bilevel half of `python -m pdsketch_mech.plan`: build the scene's world, run the
+planner, print the plan, and optionally save it as JSON, validate it and render its replay."""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import List
+
+from ..cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, write_plan_json
+from ..lang.errors import PddlError
+from ..lang.loader import LoadedDomain
+from ..lang.nodes import Problem
+from ..operators.execution import Recorder
+from ..world.build import build_world
+from ..world.render import save_gif
+from .bilevel import PlanResult, bilevel_plan
+from .replay import replay
+from .serialize import plan_entries
+
+# Seconds before the limit at which the planner stops taking new work: the step in flight
+# (one sample and simulation, up to ~0.5 s) and writing the results end near the limit.
+FINISH_MARGIN = 0.25
+
+
+def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: Problem, started: float) -> int:
+    """Plan within `args.timeout` seconds counted from `started` (a time.perf_counter() value:
+    the start of the process for the command line)."""
+    if problem.scene is None:
+        print_error(PddlError(f"problem '{problem.name}' has no :scene; domain '{loaded.domain.name}' has "
+                              "streams, so the planner needs the physical scene", problem.loc))
+        return EXIT_BAD_INPUT
+    try:
+        world = build_world(problem)
+    except PddlError as error:
+        print_error(error)
+        return EXIT_BAD_INPUT
+    notes = learned_sampler_notes(loaded, use_learned=not args.no_learned_samplers, use_mechanisms=not args.basis_only)
+    with world:
+        remaining = max(0.1, args.timeout - (time.perf_counter() - started) - FINISH_MARGIN)
+        result = bilevel_plan(loaded, problem, world, timeout=remaining, seed=args.seed,
+                              use_mechanisms=not args.basis_only)
+    result.time_s = time.perf_counter() - started  # what the user waited, start-up included
+    result.stats["learned_samplers"] = "off" if args.no_learned_samplers else "unavailable"
+    entries = plan_entries(result.steps, result.values)
+    for entry in entries:
+        note = f"  ; {entry['mechanism']}" if entry["mechanism"] else ""
+        print("(" + " ".join([entry["name"]] + entry["args"]) + ")" + note)
+    print(summary(result), file=sys.stderr)
+    for warning in notes + list(result.stats.get("warnings", ())):
+        print(f"warning: {warning}", file=sys.stderr)
+    status = EXIT_OK if result.status == "solved" else EXIT_UNSOLVED
+    if (args.validate or args.render) and result.status == "solved":
+        recorder = Recorder() if args.render else None
+        replayed = replay(loaded, problem, entries, recorder=recorder)
+        if args.render:
+            save_gif(recorder.frames, args.render)
+            print(f"render: {args.render} ({len(recorder.frames)} frames)", file=sys.stderr)
+        print(f"validate: replayed in a fresh world: {replayed.message}", file=sys.stderr)
+        status = status if replayed.goal_reached else EXIT_UNSOLVED
+    if args.json:
+        try:
+            write_plan_json(args.json, result.status, result.reason or result.status, result.time_s, args.seed,
+                            entries, result.stats)
+        except OSError as exc:
+            print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+    return status
+
+
+def learned_sampler_notes(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bool) -> List[str]:
+    """Say so when a mechanism names a learned sampler that this version cannot use yet,
+    rather than ignoring it silently (`--no-learned-samplers` asks for the generic ones)."""
+    if not use_learned or not use_mechanisms:
+        return []
+    return [f"mechanism '{m.name}' names the learned sampler \"{m.sampler}\", but this version has no runtime "
+            "for learned samplers: its steps use the generic samplers (--no-learned-samplers says this is "
+            "intended)" for m in loaded.domain.mechanisms if m.sampler]
+
+
+def summary(result: PlanResult) -> str:
+    s = result.stats
+    samples = ", ".join(f"{k} {v}" for k, v in s["samples"].items()) or "none"
+    head = (f"solved: {len(result.steps)} steps" if result.status == "solved" else f"unsolved: {result.reason}")
+    return (f"{head} in {result.time_s:.2f} s ({s['symbolic_s']:.2f} s symbolic, {s['continuous_s']:.2f} s "
+            f"sampling and simulation); {s['skeletons']} skeletons, {s['executions']} executed steps, "
+            f"{s['sim_steps']} physics steps, {s['rejected']} refinements rejected by re-execution; "
+            f"samples: {samples}")

@@ -1,0 +1,177 @@
+"""Task distributions (`pdsketch_mech.envs`): determinism, splits, files the checker accepts,
+scenes that settle where they are put, speed."""
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from pdsketch_mech.envs import TASKS, get_task, sample
+from pdsketch_mech.envs.__main__ import main as envs_main
+from pdsketch_mech.envs.generate import first_overlap
+from pdsketch_mech.lang.loader import load_domain
+from pdsketch_mech.lang.nodes import Problem
+from pdsketch_mech.lang.parser import parse_text
+from pdsketch_mech.world.asset_index import asset_info
+
+from conftest import ROOT
+
+SIX = ["edge", "hook", "lever", "poking", "com", "slope-blocker"]
+HELD_OUT_CATEGORY = {"edge": "flat", "hook": "tool", "poking": "tool"}
+
+
+def _categories(assets):
+    return {a.split("/")[0] for a in assets}
+
+
+def test_the_six_tasks_are_listed():
+    assert list(TASKS) == SIX
+    with pytest.raises(KeyError, match="unknown task"):
+        get_task("hok")
+
+
+@pytest.mark.parametrize("task", SIX)
+def test_same_task_split_seed_gives_the_same_bytes(task):
+    for split in ("train", "test"):
+        a = sample(TASKS[task], split, 7).problem_text()
+        assert a == sample(TASKS[task], split, 7).problem_text()
+        assert a != sample(TASKS[task], split, 8).problem_text()
+    assert sample(TASKS[task]).problem_text() == sample(TASKS[task]).problem_text()
+
+
+@pytest.mark.parametrize("task", SIX)
+def test_splits_hold_out_instances_and_categories(task):
+    spec = TASKS[task]
+    for obj in spec.objects:
+        if obj.fixed and obj.name == "table":
+            continue
+        train, test = set(obj.assets.train), set(obj.assets.test)
+        assert test - train, f"{task}/{obj.name}: the test split has no held-out asset"
+        for asset in train | test:
+            asset_info(asset)  # every asset exists
+    if task in HELD_OUT_CATEGORY:
+        obj = spec.object(HELD_OUT_CATEGORY[task])
+        assert _categories(obj.assets.test) - _categories(obj.assets.train), f"{task}: no held-out category"
+    # Sampled instances use only their split's assets.
+    for split in ("train", "test"):
+        for seed in range(20):
+            inst = sample(spec, split, seed)
+            for placed in inst.objects:
+                if placed.role != "distractor":
+                    assert placed.asset in spec.object(placed.name).assets.of(split)
+
+
+@pytest.mark.parametrize("task", SIX)
+def test_noise_stays_within_the_declared_ranges(task):
+    spec = TASKS[task]
+    canonical = {o.name: o for o in sample(spec).objects}
+    for seed in range(30):
+        inst = sample(spec, "train", seed, vary_assets=False)
+        for placed in inst.objects:
+            obj, base = spec.object(placed.name), canonical[placed.name]
+            assert placed.asset == base.asset
+            frame_moves = obj.frame is not None and spec.object(obj.frame).noise_xy != (0.0, 0.0)
+            if obj.align is None and not frame_moves:
+                dx, dy = np.subtract(placed.position[:2], base.position[:2])
+                assert abs(dx) <= obj.noise_xy[0] + 1e-9 and abs(dy) <= obj.noise_xy[1] + 1e-9
+            dyaw = (placed.yaw - base.yaw + 180) % 360 - 180
+            limit = obj.noise_yaw + (spec.object(obj.frame).noise_yaw if obj.frame else 0.0)
+            assert abs(dyaw) <= limit + 1e-6
+            assert placed.position[2] == pytest.approx(base.position[2], abs=1e-9)  # resting height
+
+
+@pytest.mark.parametrize("task", SIX)
+def test_generated_problems_parse_type_check_and_do_not_overlap(task):
+    domain = load_domain([f"{ROOT}/domains/basis.pddl"])
+    from pdsketch_mech.lang.typecheck import check_problem
+    for split, seed in (("train", None), ("train", 1), ("test", 2)):
+        inst = sample(TASKS[task], split, seed)
+        problem = parse_text(inst.problem_text())
+        assert isinstance(problem, Problem)
+        check_problem(problem, domain.domain, domain.types)
+        assert first_overlap(TASKS[task], inst.objects) is None
+
+
+def test_generation_is_fast():
+    start = time.perf_counter()
+    count = 0
+    for task in SIX:
+        for seed in range(10):
+            sample(TASKS[task], "test", seed).problem_text()
+            count += 1
+    per_problem = (time.perf_counter() - start) / count
+    assert per_problem < 0.05, f"{per_problem * 1000:.1f} ms a problem"
+
+
+def test_cli_writes_a_file_and_rejects_bad_requests(tmp_path, capsys):
+    out = tmp_path / "p.pddl"
+    assert envs_main(["hook", "--seed", "3", "--split", "test", "--out", str(out)]) == 0
+    assert out.read_text() == sample(TASKS["hook"], "test", 3).problem_text()
+    assert "python -m pdsketch_mech.envs hook --split test --seed 3" in out.read_text()
+    assert envs_main(["--list"]) == 0
+    assert "slope-blocker" in capsys.readouterr().out
+    assert envs_main(["hok", "--seed", "1"]) == 2
+    assert envs_main(["hook"]) == 2
+    assert envs_main(["hook", "--seed", "1", "--canonical"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[0].startswith("envs: error: unknown task 'hok'") and len(err) == 3
+
+
+def test_cli_process_is_quick_and_deterministic(tmp_path):
+    cmd = [sys.executable, "-m", "pdsketch_mech.envs", "poking", "--seed", "11", "--split", "test"]
+    start = time.perf_counter()
+    first = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT).stdout
+    elapsed = time.perf_counter() - start
+    second = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT).stdout
+    assert first == second and first.startswith("; Poking")
+    assert elapsed < 1.0  # ~0.2 s: Python, numpy and the manifest; no PyBullet
+
+
+def _settle_check(task, split, seeds):
+    """Every object of every instance stays within 5 mm while the scene settles (unless it is
+    meant to slide), and the contact graph matches the :init facts."""
+    from pdsketch_mech.world.build import build_world
+    from pdsketch_mech.world.contacts import read_contacts
+
+    problems = []
+    for seed in seeds:
+        inst = sample(TASKS[task], split, seed)
+        with build_world(parse_text(inst.problem_text())) as world:
+            before = {name: world.pose(name)[0] for name in world.movable()}
+            world.settle(max_steps=240)
+            for name, position in before.items():
+                moved = float(np.linalg.norm(np.subtract(world.pose(name)[0], position)))
+                if moved > 5e-3 and not inst.object(name).slides:
+                    problems.append(f"{inst.name}: {name} ({inst.object(name).asset}) moved {moved * 1000:.1f} mm")
+            facts = {"(" + " ".join(f) + ")" for f in read_contacts(world).facts()}
+            expected = {f for f in inst.init_facts() if not f.startswith("(fixed")}
+            if facts != expected:
+                problems.append(f"{inst.name}: contacts {sorted(facts ^ expected)} differ from :init")
+    return problems
+
+
+@pytest.mark.parametrize("task", SIX)
+def test_scenes_settle_in_place(task):
+    assert _settle_check(task, "train", [None, 0, 1, 2, 3]) + _settle_check(task, "test", [0, 1, 2, 3]) == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("split", ["train", "test"])
+def test_fifty_scenes_settle_in_place(task, split):
+    assert _settle_check(task, split, range(50)) == []
+
+
+def test_check_command_accepts_generated_problems(tmp_path):
+    paths = []
+    for task in SIX:
+        path = tmp_path / f"{task}.pddl"
+        path.write_text(sample(TASKS[task], "test", 5).problem_text())
+        paths.append(str(path))
+    result = subprocess.run([sys.executable, "-m", "pdsketch_mech.check", f"{ROOT}/domains/basis.pddl", *paths],
+                            capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    assert "warning" not in result.stderr

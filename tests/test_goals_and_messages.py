@@ -1,0 +1,111 @@
+"""Every goal form plans and replays; unsolvable and timed-out runs say which; a scene that
+moves when it settles is reported; nothing the user wrote is silently ignored (a missing
+:sampler file, a mechanism's :certified, --validate, --no-learned-samplers)."""
+import os
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from pdsketch_mech import check, plan
+from pdsketch_mech.lang.loader import load_domain, load_problem
+from pdsketch_mech.planner.bilevel import prepare_task
+from pdsketch_mech.planner.bindings import StepSampler
+from pdsketch_mech.planner.refine import Refinement, skeleton_steps
+from pdsketch_mech.world.build import build_world
+
+from conftest import ROOT
+
+BASIS = os.path.join(ROOT, "domains", "basis.pddl")
+PICK_TEXT = open(os.path.join(ROOT, "problems", "pick.pddl")).read()
+TWO_BLOCKS = PICK_TEXT.replace("(:objects table block - item)", "(:objects table block cube - item)").replace(
+    "(support block table))", "(support block table) (support cube table))").replace(
+    ":on table)))", ":on table)\n    (cube :asset \"small-block/0\" :position (0.45 -0.2 0.016) :on table)))")
+
+
+def goal(text, new_goal):
+    return text.replace("(:goal (holding block))", f"(:goal {new_goal})")
+
+
+@pytest.mark.parametrize("form", [
+    "(or (holding cube) (holding block))",
+    "(exists (?x - item) (and (holding ?x) (not (= ?x block))))",
+    "(imply (handempty) (holding cube))",
+])
+def test_goal_forms_plan_and_replay(form, write_files, capsys):
+    (path,) = write_files(**{"p.pddl": goal(TWO_BLOCKS, form)})
+    status = plan.main([BASIS, path, "--timeout", "60", "--validate"])
+    captured = capsys.readouterr()
+    assert status == 0, captured.err
+    assert captured.out.startswith("(grasp ") and "reach-goal" not in captured.out
+    assert "validate: replayed in a fresh world: the goal holds" in captured.err
+
+
+def test_an_unreachable_goal_says_no_plan_exists(write_files, capsys):
+    (path,) = write_files(**{"p.pddl": goal(PICK_TEXT, "(holding table)")})  # the table is fixed
+    assert plan.main([BASIS, path, "--timeout", "30"]) == 1
+    err = capsys.readouterr().err
+    assert "unsolved: no plan exists: no sequence of operators reaches the goal symbolically" in err
+
+
+def test_a_timeout_says_so():
+    text = os.path.join(ROOT, "problems", "hook-use.pddl")
+    domain, problem = load_problem(text, [load_domain([BASIS])])
+    from pdsketch_mech.planner.bilevel import bilevel_plan
+    with build_world(problem) as world:
+        result = bilevel_plan(domain, problem, world, timeout=3, seed=0)
+    assert result.status == "unsolved" and result.reason.startswith("timed out after 3.")
+
+
+def test_an_object_that_falls_when_the_scene_settles_is_named(write_files, capsys):
+    floating = PICK_TEXT.replace("(0.5 0.1 0.026)", "(0.5 0.1 0.126)").replace(" :on table", "")
+    (path,) = write_files(**{"p.pddl": floating})
+    assert plan.main([BASIS, path, "--timeout", "60"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: object 'block' moved 9.9 cm" in err and "when the scene settled at the start" in err
+
+
+MECHANISM = """(define (domain grab)
+  (:extends "{basis}")
+  (:mechanism grab-other
+    :parameters (?a - item ?b - item ?s - item ?g - grasp ?t - traj)
+    :precondition (and (handempty) (support ?a ?s) (support ?b ?s) (not (= ?a ?b)))
+    :certified (holding ?b)
+    :actions ((grasp ?a ?s ?g ?t)){sampler}))
+"""
+
+
+def test_a_mechanism_whose_certified_facts_do_not_hold_is_refuted(write_files):
+    """grab-other grasps ?a but promises (holding ?b): the simulation shows the promise
+    broken, so its refinement never succeeds."""
+    fragment, problem_path = write_files(**{"grab.pddl": MECHANISM.format(basis=BASIS, sampler=""),
+                                            "p.pddl": TWO_BLOCKS})
+    domain, problem = load_problem(problem_path, [load_domain([fragment])])
+    task, placeholders = prepare_task(domain, problem)
+    macro = next(i for i, op in enumerate(task.operators) if op.name == "grab-other" and op.args[0] == "block")
+    steps = skeleton_steps(task, [macro])
+    assert steps[-1].certified, "the mechanism's last step carries its promise"
+    with build_world(problem) as world:
+        world.settle()
+        sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, Counter())
+        refinement = Refinement(steps, world.snapshot(), world, task, sampler, np.random.default_rng(0))
+        for _ in range(4):
+            assert refinement.run(deadline=float("inf"), max_executions=3) is None
+    assert any("grab-other: its :certified facts do not hold" in reason for reason in refinement.failures)
+
+
+def test_a_missing_sampler_checkpoint_is_a_located_error(write_files, capsys):
+    (fragment,) = write_files(**{"grab.pddl": MECHANISM.format(basis=BASIS, sampler='\n    :sampler "grab.pt"')})
+    assert check.main([fragment]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"{fragment}:3:3: error: mechanism 'grab-other': :sampler file 'grab.pt' not found")
+
+
+def test_a_learned_sampler_that_cannot_be_used_is_reported_unless_declined(write_files, capsys):
+    fragment, _, problem_path = write_files(**{
+        "grab.pddl": MECHANISM.format(basis=BASIS, sampler='\n    :sampler "grab.pt"'),
+        "grab.pt": "not a real checkpoint", "p.pddl": TWO_BLOCKS})
+    assert plan.main([fragment, problem_path, "--timeout", "60"]) == 0
+    assert "warning: mechanism 'grab-other' names the learned sampler \"grab.pt\"" in capsys.readouterr().err
+    assert plan.main([fragment, problem_path, "--timeout", "60", "--no-learned-samplers"]) == 0
+    assert "learned sampler" not in capsys.readouterr().err
