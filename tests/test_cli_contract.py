@@ -135,12 +135,12 @@ def test_time_s_counts_the_start_of_the_process(tmp_path):
 @pytest.mark.slow
 def test_timeout_ends_within_half_a_second_of_the_limit(tmp_path):
     out = tmp_path / "plan.json"
-    command = [sys.executable, "-m", "pdsketch_mech.plan", os.path.join(ROOT, "domains", "mechanisms", "hook-use.pddl"),
-               os.path.join(ROOT, "problems", "hook-use.pddl"), "--timeout", "4", "--seed", "1", "--json", str(out)]
+    command = [sys.executable, "-m", "pdsketch_mech.plan", BASIS, os.path.join(ROOT, "problems", "hook-use.pddl"),
+               "--timeout", "4", "--json", str(out)]  # the Hook task needs a tool: not found by 4 s
     started = time.perf_counter()
     done = subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=60)
     wall = time.perf_counter() - started
-    assert done.returncode == 1 and json.loads(out.read_text())["reason"] == "timed out", done.stderr
+    assert done.returncode == 1 and json.loads(out.read_text())["reason"].startswith("timed out"), done.stderr
     assert abs(wall - 4) < 0.5, wall
 
 

@@ -51,8 +51,17 @@ class RunLoc(Loc):
                 col += match.end() - match.start()
         return Loc(self.file, line, col)
 
+    def dash_loc(self, index: int) -> Loc:
+        """The location of the run's `index`-th ` - ` before a type (0-based)."""
+        offset = [m.start() for m in _DASH.finditer(self.text)][index]
+        before = self.text[:offset]
+        if "\n" in before:
+            return Loc(self.file, self.line + before.count("\n"), offset - before.rfind("\n"))
+        return Loc(self.file, self.line, self.col + offset)
+
 
 _WORD_AND_GAP = re.compile(r"(\S+)(\s*)")
+_DASH = re.compile(r"(?<=\s)-(?=\s)")
 
 
 def _loc() -> Optional[Loc]:

@@ -110,16 +110,6 @@ def parse_file(path: str) -> Union[Domain, Problem]:
 _TYPE_DASH = re.compile(r"\s+-\s+")  # inside a NAME_RUN token: `names - type names - type`
 
 
-def _dash_loc(run: RunLoc, number: int) -> Loc:
-    """The location of the `number`-th '-' inside a run (0-based)."""
-    match = list(_TYPE_DASH.finditer(run.text))[number]
-    offset = match.start() + match.group().index("-")
-    before = run.text[:offset]
-    if "\n" in before:
-        return Loc(run.file, run.line + before.count("\n"), offset - before.rfind("\n"))
-    return Loc(run.file, run.line, run.col + offset)
-
-
 def _tagged(tag: str):
     """A transformer callback turning `(:key value)` into a (tag, value, loc) triple."""
     @v_args(meta=True)
@@ -259,7 +249,7 @@ class _ToNodes(Transformer_NonRecursive):
                 pending.append((first.split(), loc))
                 for number, part in enumerate(typed_parts):
                     type_, *names = part.split()
-                    assign(type_, lambda: _dash_loc(loc, number))
+                    assign(type_, lambda: loc.dash_loc(number))
                     pending.append((names, loc))
         flush("object")
         return tuple(out)
