@@ -63,9 +63,11 @@ def test_replay_refuses_a_plan_whose_grasp_was_moved(tmp_path, capsys, pick_plan
     assert "step 1 (grasp) failed: the hand is 50" in err and "from the grasp of block" in err
 
 
-def test_the_unedited_plan_replays(tmp_path, capsys, pick_plan):
-    status, err = replay_edited(tmp_path, pick_plan, capsys)
-    assert status == 0, err
+def test_the_unedited_plan_replays_and_renders(tmp_path, capsys, pick_plan):
+    path, gif = tmp_path / "plan.json", tmp_path / "replay.gif"
+    path.write_text(json.dumps(pick_plan))
+    assert replay_command.main([PICK, str(path), "--render", str(gif)]) == 0, capsys.readouterr().err
+    assert gif.stat().st_size > 10000
 
 
 def load(name):

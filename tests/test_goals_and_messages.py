@@ -90,7 +90,7 @@ def test_a_mechanism_whose_certified_facts_do_not_hold_is_refuted(write_files):
         sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, Counter())
         refinement = Refinement(steps, world.snapshot(), world, task, sampler, np.random.default_rng(0))
         for _ in range(4):
-            assert refinement.run(deadline=float("inf"), max_executions=3) is None
+            assert refinement.run(deadline=float("inf"), max_work=3) is None
     assert any("grab-other: its :certified facts do not hold" in reason for reason in refinement.failures)
 
 

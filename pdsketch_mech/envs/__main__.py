@@ -14,6 +14,24 @@ from typing import Optional, Sequence
 from ..cli import EXIT_BAD_INPUT, EXIT_OK, run
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse, but a bad command line is one `error: ...` line and exit 2 (no usage block)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(EXIT_BAD_INPUT, f"error: {message}\n")
+
+
+def seed_value(text: str) -> int:
+    """A seed: a whole number >= 0 (numpy's generators take no negative seeds)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 0, got {text!r}")
+    return value
+
+
 def _write(path: str, text: str) -> None:
     """Write `text` to `path` atomically (a temporary name in the same folder, then a rename)."""
     tmp = f"{path}.tmp{os.getpid()}"
@@ -25,9 +43,9 @@ def _write(path: str, text: str) -> None:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     from .tasks import TASKS
 
-    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
+    parser = OneLineParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
     parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}")
-    parser.add_argument("--seed", type=int, help="which instance (any integer)")
+    parser.add_argument("--seed", type=seed_value, help="which instance (a whole number >= 0)")
     parser.add_argument("--split", default="train", choices=("train", "test"), help="asset split (default train)")
     parser.add_argument("--canonical", action="store_true",
                         help="the canonical instance: first train assets at their canonical poses")
@@ -51,7 +69,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     elif args.out and not os.path.isdir(os.path.dirname(os.path.abspath(args.out))):
         error = f"{args.out}: its folder does not exist"
     if error:
-        print(f"envs: error: {error}", file=sys.stderr)
+        print(f"error: {error}", file=sys.stderr)
         return EXIT_BAD_INPUT
     from .generate import sample
 

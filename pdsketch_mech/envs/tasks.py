@@ -13,30 +13,35 @@ from typing import Dict
 from .spec import Align, Assets, Distractors, ObjectSpec, TaskSpec
 
 TABLE_EDGE_Y = 0.6
+SMALL_TABLE_EDGE_Y = 0.5   # table/1 (0.8 x 1.0 m) at (0.6, 0): Edge and CoM use its +y edge, within easy reach
 SCALE = (0.85, 1.15)
 LEDGE_HEIGHT = 0.02  # the ledge's platform top (world/shapes.py `_ledge`)
 
 TABLE = ObjectSpec("table", Assets(("table",), ("table",)), xy=(0.6, 0.0), on=None, fixed=True,
                    noise_xy=(0.0, 0.0), noise_yaw=0.0, role="the table, top at z = 0")
 
+SMALL_TABLE = ObjectSpec("table", Assets(("table/1",), ("table/1",)), xy=(0.6, 0.0), on=None, fixed=True,
+                         noise_xy=(0.0, 0.0), noise_yaw=0.0, role="a smaller table, top at z = 0, +y edge at y = 0.5")
+
 # Small household objects that stay where they are put (no balls: they roll).
 CLUTTER = ("apple/0", "apple/1", "banana/0", "banana/1", "fork/0", "fork/1", "block/1", "walnut/0", "hairbrush/1")
 
 EDGE = TaskSpec(
     "edge", "Edge",
-    "a flat object lies on the table, too flat to grasp; pushed until it overhangs the table's "
-    "edge, it can be pinched by the overhang",
+    "a flat object lies on the table, too flat for the fingers to get around; pushed until it "
+    "overhangs the table's edge, it can be pinched by the overhang",
     objects=(
-        TABLE,
+        SMALL_TABLE,
         ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/0", "calculator/1", "document/0", "document/1"),
                                   ("caliper/0", "caliper/1", "caliper/2", "plate/2", "calculator/2", "document/2")),
-                   xy=(0.45, 0.33), yaw_by_category=(("calculator", 90.0), ("document", 90.0), ("caliper", 90.0)),
+                   xy=(0.42, 0.22), yaw_by_category=(("calculator", 90.0), ("document", 90.0), ("caliper", 90.0)),
                    scale=(0.9, 1.1), role="the flat object to pick up"),
     ),
     goal="(holding flat)",
-    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.7), (-0.45, -0.15))),
-    demo="push the flat object with the closed fingers towards +y until about 40 % of it overhangs "
-         "the table's edge, then pinch the overhang (fingers above and below it) and lift",
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.7), (-0.4, -0.1))),
+    demo="push the flat object with the closed fingers towards +y until 35 % of it overhangs the "
+         "table's edge, then grasp the overhang (a plate by its rim at its outermost point, where the "
+         "outer finger has room now) and lift it",
 )
 
 HOOK = TaskSpec(
@@ -85,35 +90,35 @@ POKING = TaskSpec(
     "tool pushed through the tunnel pokes it out",
     objects=(
         TABLE,
-        ObjectSpec("tunnel", Assets(("tunnel/3",), ("tunnel/4",)), xy=(0.58, 0.0), fixed=True,
-                   noise_yaw=10.0, role="the tunnel, along x"),
+        ObjectSpec("tunnel", Assets(("tunnel/3",), ("tunnel/4",)), xy=(0.52, 0.02), yaw=90.0, fixed=True,
+                   noise_yaw=10.0, role="the tunnel, across the table (along y)"),
         ObjectSpec("target", Assets(("block/0", "block/1"), ("block/2", "small-block/2")), frame="tunnel",
                    noise_xy=(0.01, 0.01), role="the block in the tunnel"),
         ObjectSpec("tool", Assets(("wooden-stick/0", "wooden-stick/1", "spatula/0", "spatula/2"),
                                   ("spoon/2", "wooden-stick/2")),
-                   xy=(0.36, 0.26), scale=(1.0, 1.15), role="the poking tool"),
+                   xy=(0.34, -0.28), yaw=90.0, scale=(1.0, 1.15), role="the poking tool"),
     ),
     goal="(holding target)",
     overlaps_ok=(("target", "tunnel"),),
-    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.5), (-0.45, -0.25))),
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.55), (0.2, 0.45))),
     demo="grasp the tool by its end, push it through the tunnel until the block comes out of the far "
          "end, pull it back, put it down, grasp the block",
 )
 
 COM = TaskSpec(
     "com", "Center-of-Mass",
-    "a plate overhangs the table's edge (so it can be grasped by its rim); it must end up resting "
-    "on a small block alone, which only a placement with its centre of mass over the block achieves",
+    "a plate overhangs the table's edge (so the fingers can get around its rim); it must end up "
+    "resting on a small block alone, which only a placement with its centre of mass over the block achieves",
     objects=(
-        TABLE,
-        ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/1"), ("plate/2",)), xy=(0.38, 0.0),
+        SMALL_TABLE,
+        ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/1"), ("plate/2",)), xy=(0.42, 0.0),
                    yaw_by_category=(("calculator", 90.0),), scale=(0.9, 1.1),
-                   align=Align("+y", TABLE_EDGE_Y, 0.38), role="the object to place"),
-        ObjectSpec("pedestal", Assets(("small-block/0", "small-block/1"), ("small-block/2",)), xy=(0.55, 0.1),
+                   align=Align("+y", SMALL_TABLE_EDGE_Y, 0.38), role="the object to place"),
+        ObjectSpec("pedestal", Assets(("small-block/0", "small-block/1"), ("small-block/2",)), xy=(0.58, 0.0),
                    mass=1.0, role="the small block"),
     ),
     goal="(and (support flat pedestal) (not (support flat table)) (handempty))",
-    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.55), (-0.45, -0.2))),
+    distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.55), (-0.4, -0.2))),
     demo="grasp the plate's rim where it overhangs, carry it over the small block with its centre of "
          "mass above the block's centre, lower it onto the block and let go",
 )

@@ -1,9 +1,10 @@
 """The adaptive bilevel planner: skeletons from the FF-guided symbolic search (with
 optimistic stream placeholders), refined by sampling and simulation.
 
-Adaptive, in PDDLStream's sense: every round takes one more skeleton from the generator and
-gives every unfinished skeleton another time slice (growing each round), so a long skeleton
-that needs many samples is not starved by the search for new ones, and vice versa.
+Adaptive, in PDDLStream's sense: work is shared between refining the skeletons found so far
+and taking new ones from the symbolic search (schedule.py), so a skeleton that needs many
+samples is not starved by the search for new ones, and a deep one (a tool use 20 skeletons
+down) is reached within a bounded amount of work.
 """
 from __future__ import annotations
 
@@ -25,10 +26,9 @@ from .bindings import StepSampler
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .refine import Refinement, Step, skeleton_steps
+from .schedule import SLICE, next_turn
 from .serialize import plan_entries
 
-FIRST_SLICE = 8     # simulated steps a skeleton gets in its first round (work, not seconds:
-SLICE_GROWTH = 1.5  # the interleaving, and so the plan, must not depend on machine speed)
 
 
 @dataclass
@@ -70,10 +70,12 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     task, placeholders = prepare_task(domain, problem, use_mechanisms)
     counts: Counter = Counter()
     sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts)
+    sampler.deadline = deadline
     warnings = settle_start(world)
     initial = world.snapshot()
-    stats: Dict[str, object] = {"skeletons": 0, "samples": counts, "operators": len(task.operators),
-                                "executions": 0, "rejected": 0, "symbolic_s": 0.0, "continuous_s": 0.0}
+    stats: Dict[str, object] = {"skeletons": 0, "refined": 0, "pruned": 0, "samples": counts,
+                                "operators": len(task.operators), "executions": 0, "rejected": 0,
+                                "symbolic_s": 0.0, "continuous_s": 0.0}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
@@ -85,40 +87,49 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         result = execute_plan(task, problem, plan_entries(steps, values))
         return None if result.goal_reached else f"in a fresh world, {result.message}"
     skeletons = iter_skeletons(task, deadline=deadline)
-    active: List[Refinement] = []
+    active: Dict[int, Refinement] = {}
+    created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
     failures: Counter = Counter()
-    budget = FIRST_SLICE
     more = True
     try:
         while time.perf_counter() < deadline:
-            if more and stats["skeletons"] < max_skeletons:
+            can_create = more and stats["skeletons"] < max_skeletons
+            turn = next_turn(((r.rank, r.effort) for r in active.values()),
+                             stats["skeletons"] + 1 if can_create else None)
+            if turn is None:
+                break
+            if turn not in active:
                 t0 = time.perf_counter()
                 plan = next(skeletons, None)
                 stats["symbolic_s"] += time.perf_counter() - t0
                 if plan is None:
                     more = False
-                else:
-                    stats["skeletons"] += 1
-                    # Each skeleton draws from its own generator, seeded in creation order.
-                    skeleton_rng = np.random.default_rng(rng.integers(1 << 63))
-                    active.append(Refinement(skeleton_steps(task, plan), initial, world, task, sampler,
-                                             skeleton_rng, in_fresh_world if validate else None))
-            if not active and not more:
-                break
-            for refinement in list(active):
-                t0 = time.perf_counter()
-                values = refinement.run(deadline, int(budget))
-                stats["continuous_s"] += time.perf_counter() - t0
-                if values is not None:
-                    stats["sim_steps"] = world.sim_steps - sim_start
-                    return _result("solved", refinement, values, start, stats, failures + refinement.failures)
-                if refinement.exhausted:
-                    active.remove(refinement)
-                    failures += _retire(refinement, stats)
-            budget *= SLICE_GROWTH
+                    continue
+                stats["skeletons"] += 1
+                created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3),
+                                "skeleton": " ".join(task.operators[o].label for o in plan)})
+                # Each skeleton draws from its own generator, seeded in creation order.
+                skeleton_rng = np.random.default_rng(rng.integers(1 << 63))
+                active[turn] = Refinement(skeleton_steps(task, plan), initial, world, task, sampler, skeleton_rng,
+                                          in_fresh_world if validate else None, rank=turn)
+            refinement = active[turn]
+            t0 = time.perf_counter()
+            values = refinement.run(deadline, SLICE)
+            stats["continuous_s"] += time.perf_counter() - t0
+            if values is not None:
+                del active[turn]
+                for other in active.values():
+                    failures += _retire(other, stats)
+                stats["sim_steps"] = world.sim_steps - sim_start
+                return _result("solved", refinement, values, start, stats, failures + refinement.failures)
+            if refinement.exhausted:
+                del active[turn]
+                stats["pruned"] += 1
+                failures += _retire(refinement, stats)
     finally:
         world.restore(initial)
-    for refinement in active:
+        stats["skeleton_log"] = created
+    for refinement in active.values():
         failures += _retire(refinement, stats)
     stats["sim_steps"] = world.sim_steps - sim_start
     elapsed = time.perf_counter() - start
@@ -133,6 +144,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
 
 def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
     stats["executions"] += refinement.executions
+    stats["refined"] += refinement.executions > 0
     stats["rejected"] += refinement.rejected
     return refinement.failures
 

@@ -6,6 +6,7 @@ sampled in dependency order in the world as it is before the step.
 """
 from __future__ import annotations
 
+import time
 from collections import Counter
 from typing import Callable, Dict, Iterator, List, Mapping, Sequence
 
@@ -25,10 +26,11 @@ Sampler = Callable[[World, Stream, List[object], np.random.Generator], Iterator[
 # Candidates a sampler examines per visit of a step: the adaptive planner revisits steps,
 # so a modest budget that fails fast beats an exhaustive one.
 ATTEMPTS = 120
+GRASP_ATTEMPTS = 60  # grasp proposals already passed cheap geometric tests (samplers/grasp.py)
 
 
 def _grasp(world: World, stream: Stream, inputs: List[object], rng) -> Iterator[object]:
-    return sample_grasps(world, inputs[0], rng, max_attempts=ATTEMPTS)
+    return sample_grasps(world, inputs[0], rng, max_attempts=GRASP_ATTEMPTS)
 
 
 def _placement(world: World, stream: Stream, inputs: List[object], rng) -> Iterator[object]:
@@ -71,6 +73,7 @@ class StepSampler:
 
     def __init__(self, streams: Mapping[str, Stream], placeholders: Mapping[str, Placeholder], counts: Counter):
         self.streams, self.placeholders, self.counts = streams, placeholders, counts
+        self.deadline = float("inf")  # (time.perf_counter()) no value is drawn after it
         unknown = sorted({s.sampler or s.name for s in streams.values()} - set(SAMPLERS))
         if unknown:
             raise ValueError(f"no Python sampler named {', '.join(unknown)}; known: {', '.join(sorted(SAMPLERS))}")
@@ -94,6 +97,8 @@ class StepSampler:
         key = stream.sampler or stream.name
         drawn = 0
         for value in SAMPLERS[key](world, stream, inputs, rng):
+            if time.perf_counter() > self.deadline:
+                break
             self.counts[key] += 1
             values[name] = value
             yield from self._assign(world, rest, values, rng, per_value, root=False)

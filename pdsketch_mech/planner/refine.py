@@ -47,8 +47,10 @@ class Refinement:
     sampler: StepSampler
     rng: np.random.Generator
     validate: Optional[Validator] = None
+    rank: int = 1                 # creation order among skeletons (1 = first)
     failures: Counter = field(default_factory=Counter)
     executions: int = 0
+    effort: int = 0               # work units spent: sampler visits and simulated steps
     rejected: int = 0             # refinements the fresh-world re-execution refused
     exhausted: bool = False
 
@@ -61,17 +63,19 @@ class Refinement:
         self.root_yields = 0
         self.observable = contact_mask(self.task)
 
-    def run(self, deadline: float, max_executions: int) -> Optional[List[Dict[str, object]]]:
-        """Search until `max_executions` more steps have been simulated (a unit of work, so
-        that how skeletons interleave does not depend on the machine's speed) or until
-        `deadline`; the values of every step if the skeleton is refined."""
+    def run(self, deadline: float, max_work: int) -> Optional[List[Dict[str, object]]]:
+        """Search for `max_work` more units of work (a parameter sample drawn and simulated,
+        or a step's sampler running dry: counted, not timed, so that how skeletons interleave
+        does not depend on the machine's speed) or until `deadline`; the values of every
+        step if the skeleton is refined."""
         world = self.world
-        budget = self.executions + max_executions
+        budget = self.effort + max_work
         if not self.steps:  # the goal holds symbolically already: it must hold in the scene too
             world.restore(self.start)
             self.exhausted = bool((observed_state(self.task, world) ^ self.task.init) & self.observable)
             return None if self.exhausted else []
-        while not self.exhausted and self.executions < budget and time.perf_counter() < deadline:
+        while not self.exhausted and self.effort < budget and time.perf_counter() < deadline:
+            self.effort += 1
             i = self.depth
             step = self.steps[i]
             world.restore(self.snapshots[i])

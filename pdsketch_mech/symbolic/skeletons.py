@@ -5,8 +5,11 @@ it asks for the next. This is a best-first search over *paths* (f = g + w·h_FF)
 state may be expanded up to `max_visits` times *at each depth*, a k-shortest-paths scheme:
 each goal path popped is a new plan. Counting per depth matters because actions with no
 symbolic effect (a push before a grasp, which the simulator may need) and mechanisms like
-hook-use return to a state already seen; they must still be enumerated. Two effect-free
-steps in a row are never enumerated: one push or move can stand for several.
+hook-use return to a state already seen; they must still be enumerated, several in a row
+too (one push moves an object at most 25 cm). Plans are never extended past the goal
+(sound: a plan whose prefix reaches the goal is yielded first). The per-(state, depth)
+visit bound is the one pruning that is not sound in general: beyond `max_visits` paths of
+one length into one state, longer alternatives are dropped.
 """
 from __future__ import annotations
 
@@ -46,11 +49,11 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
     visits: Counter = Counter()
     seen_plans: Set[Tuple[str, ...]] = set()
     counter = 0
-    open_list = [(weight * h_cache[task.init], h_cache[task.init], counter, task.init, 0, False, None)]
+    open_list = [(weight * h_cache[task.init], h_cache[task.init], counter, task.init, 0, None)]
     while open_list:
         if deadline is not None and time.perf_counter() > deadline:
             return
-        _, _, _, state, cost, after_loop, path = heapq.heappop(open_list)
+        _, _, _, state, cost, path = heapq.heappop(open_list)
         if visits[state, cost] >= max_visits:
             continue
         visits[state, cost] += 1
@@ -65,8 +68,7 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
             continue
         for op in successors(state):
             child = task.successor(state, task.operators[op])
-            loop = child == state
-            if (loop and after_loop) or visits[child, cost + 1] >= max_visits:
+            if visits[child, cost + 1] >= max_visits:
                 continue
             h = h_cache.get(child)
             if h is None:
@@ -74,4 +76,4 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
             if h == INFINITY:
                 continue
             counter += 1
-            heapq.heappush(open_list, (cost + 1 + weight * h, h, counter, child, cost + 1, loop, (path, op)))
+            heapq.heappush(open_list, (cost + 1 + weight * h, h, counter, child, cost + 1, (path, op)))

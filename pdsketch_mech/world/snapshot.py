@@ -11,7 +11,9 @@ pushed plate ended up 5 mm elsewhere; PyBullet's own saveState/restoreState miss
 too, measured 3–6 mm). So a restore also *canonicalises* the simulator: every collision
 object is re-registered with the broadphase (dropping its cached contacts) in a fixed order,
 and the grasp constraint is re-created. The planner and replay both start every step from
-a restore, so both see the same canonical state.
+a restore, so both see the same canonical state. The world also solves contact pairs in
+sorted order and never lets bodies sleep (world.py): the broadphase's discovery order and
+a body's sleep timer are state no snapshot can read.
 """
 from __future__ import annotations
 

@@ -53,6 +53,9 @@ class World:
         self.client = p.connect(p.GUI if gui else p.DIRECT)
         p.setGravity(0, 0, -9.81, physicsClientId=self.client)
         p.setTimeStep(TIME_STEP, physicsClientId=self.client)
+        # Solve contact pairs in a sorted order, not the broadphase's discovery order (which
+        # depends on where links were when last detected: a restore must not depend on it).
+        p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=self.client)
         self.robot = load_panda(self.client, robot_base)
         self.kinematics = Kinematics(robot_base)
         self.bodies: Dict[str, Body] = {}
@@ -97,13 +100,14 @@ class World:
         body = Body(obj.name, body_id, obj.fixed, (tuple(info[3]), tuple(info[4])), urdf, scale)
         self.bodies[obj.name] = body
         self._colliders = None
-        changes = {}
+        # Sleeping bodies keep a deactivation timer that no snapshot can see or restore;
+        # a resting object that may or may not be asleep makes restores inexact.
+        changes = {"activationState": p.ACTIVATION_STATE_DISABLE_SLEEPING}
         if obj.mass is not None and not obj.fixed:
             changes["mass"] = obj.mass
         if obj.friction is not None:
             changes["lateralFriction"] = obj.friction
-        if changes:
-            p.changeDynamics(body_id, -1, physicsClientId=self.client, **changes)
+        p.changeDynamics(body_id, -1, physicsClientId=self.client, **changes)
         if obj.color is not None:
             p.changeVisualShape(body_id, -1, rgbaColor=obj.color, physicsClientId=self.client)
         self.set_pose(obj.name, (obj.position, obj.orientation))

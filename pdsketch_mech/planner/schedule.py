@@ -1,0 +1,42 @@
+"""How the adaptive planner shares work between skeletons, old and new.
+
+PDDLStream's adaptive algorithm balances creating new skeletons against refining the ones
+it has. Here every skeleton k (in the order the symbolic search produces them: shorter
+and cheaper first) has a priority score
+
+    (effort_k + ENTRY) * k ** EXPONENT
+
+where effort_k is the work it has had; the lowest score works next, for one SLICE. The
+next skeleton not yet created competes too, with effort 0: it is created when its score,
+ENTRY * k ** EXPONENT, is the lowest. So skeleton k gets about (N/k) ** EXPONENT times less
+work than the first, and reaching the N-th skeleton costs about ENTRY * N units in all
+(with EXPONENT = 1/2): the 30th of a tool-use problem is refined after a few hundred units,
+while the first skeletons keep the larger share. Work is counted in units (samples drawn
+and simulated, samplers running dry), never in seconds: the same seed gives the same plan
+whatever the machine's load.
+"""
+from __future__ import annotations
+
+from typing import Iterable, Optional, Tuple
+
+ENTRY = 4           # work units a new skeleton is worth before it starts
+EXPONENT = 0.5
+SLICE = 4           # work units per turn
+
+
+def score(rank: int, effort: int) -> float:
+    return (effort + ENTRY) * rank ** EXPONENT
+
+
+def next_turn(active: Iterable[Tuple[int, int]], next_rank: Optional[int]) -> Optional[int]:
+    """The rank of the skeleton to work on next among `active` (rank, effort) pairs, or
+    `next_rank` if a new skeleton should be created first (None: no more skeletons).
+    Returns None when there is nothing left at all."""
+    best: Optional[Tuple[float, int]] = None
+    for rank, effort in active:
+        candidate = (score(rank, effort), rank)
+        if best is None or candidate < best:
+            best = candidate
+    if next_rank is not None and (best is None or score(next_rank, 0) <= best[0]):
+        return next_rank
+    return None if best is None else best[1]
