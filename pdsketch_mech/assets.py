@@ -9,7 +9,6 @@ Scenes name assets `"<category>/<variant>"` (`"<category>"` is variant 0); see
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import shutil
@@ -17,6 +16,7 @@ import sys
 import tempfile
 from typing import Any, Dict, List, Optional, Sequence
 
+from .cli import ArgumentParser, run_and_exit
 from .world.asset_index import ASSETS_DIR, MANIFEST
 from .world.shapes import CATEGORIES, all_models
 from .world.urdf import write_model
@@ -79,13 +79,15 @@ def check(committed: str) -> List[str]:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.assets", description=__doc__.split("\n")[0])
+    parser = ArgumentParser(prog="python -m pdsketch_mech.assets", description=__doc__.split("\n")[0])
     parser.add_argument("--out", default=None,
                         help="assets folder (default: assets/ of the repository root, whatever the working directory)")
     parser.add_argument("--check", action="store_true",
                         help="compare a fresh generation with the folder; exit 1 if they differ")
     args = parser.parse_args(argv)
     out = ASSETS_DIR if args.out is None else os.path.abspath(args.out)
+    if os.path.exists(out) and not os.path.isdir(out):
+        parser.error(f"--out {args.out}: is a file, not a folder")
     if args.check:
         problems = check(out)
         for line in problems:
@@ -100,4 +102,4 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_and_exit(main)

@@ -12,11 +12,9 @@ with streams) loads the simulator: checking classical PDDL stays fast.
 """
 from __future__ import annotations
 
-import argparse
-import sys
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error, print_warning, run
+from .cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, print_error, print_warning, run_and_exit
 from .lang.errors import PddlError, PddlWarning, did_you_mean
 from .lang.loader import LoadedDomain, declared_domain_name, load_domain, load_problem
 from .lang.nodes import Problem
@@ -70,7 +68,7 @@ def check_scene(loaded: LoadedDomain, problem: Problem, path: str) -> List[PddlW
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="python -m pdsketch_mech.check",
         description="Parse and type-check .pddl domain and problem files (exit 0 clean, 2 on errors).")
     parser.add_argument("files", nargs="+", metavar="FILE", help="domain and problem files, in any order")
@@ -116,4 +114,4 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(run(main))
+    run_and_exit(main)

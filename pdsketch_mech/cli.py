@@ -1,14 +1,25 @@
-"""Helpers shared by the command-line entry points (`python -m pdsketch_mech.X`)."""
+"""Helpers shared by the command-line entry points (`python -m pdsketch_mech.X`).
+
+The contract: exit 0 solved or valid, 1 no plan (or the goal is false on replay), 2 bad
+input of any kind, 130 interrupted. Bad input is one line on stderr — `FILE:LINE:COL:
+error: ...` when it comes from a file, `error: ...` otherwise — and every argument and
+output path is checked before any work starts.
+"""
 from __future__ import annotations
 
+import argparse
 import json
+import math
 import os
 import sys
-from typing import Any, Callable, Dict, List
+import tempfile
+from typing import Any, Callable, Dict, List, NoReturn, Optional, Sequence
 
-from .lang.errors import PddlError, PddlWarning
+from . import process
+from .lang.errors import PddlError, PddlWarning, escape
 
 EXIT_OK, EXIT_UNSOLVED, EXIT_BAD_INPUT = 0, 1, 2
+MAX_SEED = 2 ** 32 - 1  # the motion planner's generator takes 32-bit seeds
 
 
 def print_error(error: PddlError) -> None:
@@ -31,21 +42,154 @@ def print_warning(warning: PddlWarning) -> None:
 def run(main: Callable[[], int]) -> int:
     """Run a command's `main`, turning a closed pipe (`| head`) or Ctrl-C into a quiet exit."""
     try:
-        return main()
+        with process.main_running():
+            return main()
     except BrokenPipeError:
-        # Python would complain again when flushing stdout at exit; point it at /dev/null.
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        _silence_stdout()
         return EXIT_OK
     except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
+        return process.report_interrupt()
+    except BaseException:
+        # After a Ctrl-C, any exception is its consequence: a library that swallowed the
+        # KeyboardInterrupt may fail next (trimesh: TypeError on a half-imported module).
+        if process.interrupted():
+            return process.report_interrupt()
+        raise
+
+
+def run_and_exit(main: Callable[[], int]) -> NoReturn:
+    """`run(main)`, then end the process at once with its status. Outputs are complete and
+    flushed by then; skipping the interpreter's teardown (unloading scipy, trimesh and
+    PyBullet takes 0.15-0.3 s) makes a command end when its time limit says."""
+    status = run(main)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except BrokenPipeError:
+            _silence_stdout()
+    os._exit(status)
+
+
+def _silence_stdout() -> None:
+    # A reader that went away (`| head`): later flushes would fail again; point at /dev/null.
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+
+
+# ----------------------------------------------------------------------------- arguments
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse, but a bad command line is one `error: ...` line and exit 2 (no usage block)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, escape(f"error: {message}") + "\n")
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def _integer(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+
+
+def seconds(text: str) -> float:
+    """A time limit: a finite number of seconds > 0."""
+    value = _number(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive, finite number of seconds, got {text!r}")
+    return value
+
+
+def seed(text: str) -> int:
+    """A random seed: a whole number in [0, 2^32 - 1]."""
+    value = _integer(text)
+    if not 0 <= value <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to {MAX_SEED}, got {text!r}")
+    return value
+
+
+def count(text: str) -> int:
+    """How many of something: a whole number >= 1."""
+    value = _integer(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 1, got {text!r}")
+    return value
+
+
+def number_in(low: float, high: float = math.inf) -> Callable[[str], float]:
+    """A finite number in [low, high]."""
+    def parse(text: str) -> float:
+        value = _number(text)
+        if not (math.isfinite(value) and low <= value <= high):
+            wanted = f">= {low:g}" if high == math.inf else f"from {low:g} to {high:g}"
+            raise argparse.ArgumentTypeError(f"must be a finite number {wanted}, got {text!r}")
+        return value
+    return parse
+
+
+def finite(text: str) -> float:
+    """Any finite number."""
+    value = _number(text)
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return value
+
+
+# ----------------------------------------------------------------------------- output files
+def output_error(path: Optional[str], option: str, inputs: Sequence[str] = (),
+                 suffixes: Sequence[str] = ()) -> Optional[PddlError]:
+    """Why `path` (the value of `option`) cannot be written, or None: its folder must exist,
+    it must not be a folder, nor one of the `inputs` (nor the same file under another name),
+    and its name must end in one of `suffixes` when they are given."""
+    if path is None:
+        return None
+    folder = os.path.dirname(os.path.abspath(path))
+    if suffixes and not path.lower().endswith(tuple(suffixes)):
+        return PddlError(f"{option} {path}: the file name must end in {' or '.join(suffixes)}")
+    if not os.path.isdir(folder):
+        return PddlError(f"{option} {path}: folder {os.path.dirname(path) or '.'} does not exist")
+    if os.path.isdir(path):
+        return PddlError(f"{option} {path}: is a folder")
+    if not os.access(folder, os.W_OK):
+        return PddlError(f"{option} {path}: folder {os.path.dirname(path) or '.'} is not writable")
+    for source in inputs:
+        if _same_file(path, source):
+            return PddlError(f"{option} {path}: would overwrite the input file {source}")
+    return None
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist (yet)
+        return os.path.realpath(a) == os.path.realpath(b)
+
+
+def write_json(path: str, document: Any) -> None:
+    """Write `document` atomically: a reader (or a crash) never sees half a file, and an
+    existing file is only replaced once the new one is complete."""
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".json")
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)  # as open() would create it, not mkstemp's 0600
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            json.dump(document, handle, indent=1)
+            handle.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        os.unlink(tmp)
+        raise
 
 
 def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: int,
                     plan: List[Dict[str, Any]], stats: Dict[str, Any]) -> None:
     """The `plan --json` document of DESIGN.md, for classical and manipulation plans alike."""
-    document = {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
-                "plan": plan, "stats": stats}
-    with open(path, "w", encoding="utf-8") as handle:
-        json.dump(document, handle, indent=1)
-        handle.write("\n")
+    write_json(path, {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
+                      "plan": plan, "stats": stats})

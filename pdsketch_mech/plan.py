@@ -13,7 +13,11 @@ import sys
 import time
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, print_warning, run, write_plan_json
+from . import process
+from .cli import (
+    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, number_in, output_error, print_error,
+    print_warning, run_and_exit, seconds, seed, write_plan_json,
+)
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, load_domain, load_problem
 from .lang.nodes import Problem
@@ -23,20 +27,22 @@ from .symbolic.validate import validate_plan
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.plan", description=__doc__.split("\n\n")[0])
+    parser = ArgumentParser(prog="python -m pdsketch_mech.plan", description=__doc__.split("\n\n")[0])
     parser.add_argument("domain", metavar="DOMAIN", help="domain file (fragments load what they :extends)")
     parser.add_argument("problem", metavar="PROBLEM", help="problem file")
     parser.add_argument("--mechanisms", nargs="+", default=[], metavar="PATH",
                         help="domain fragments (e.g. learned mechanisms) merged into DOMAIN")
-    parser.add_argument("--timeout", type=float, default=600.0, metavar="S", help="seconds (default 600)")
-    parser.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
+    parser.add_argument("--timeout", type=seconds, default=600.0, metavar="S",
+                        help="seconds from the start of the command (default 600)")
+    parser.add_argument("--seed", type=seed, default=0, metavar="N", help="random seed (default 0)")
     parser.add_argument("--search", choices=SEARCHES, default="gbfs",
                         help="gbfs: lazy greedy best-first with preferred operators (default); "
                              "wastar: weighted A*")
-    parser.add_argument("--weight", type=float, default=2.0, metavar="W", help="weight for wastar (default 2)")
+    parser.add_argument("--weight", type=number_in(1.0), default=2.0, metavar="W",
+                        help="weight for wastar, >= 1 (default 2)")
     parser.add_argument("--json", metavar="FILE", help="write the result as JSON")
     parser.add_argument("--validate", action="store_true", help="re-check the plan against the domain")
-    parser.add_argument("--skeletons", type=int, metavar="N",
+    parser.add_argument("--skeletons", type=count, metavar="N",
                         help="print the first N symbolic skeletons (placeholders for stream outputs)")
     parser.add_argument("--render", metavar="FILE.gif", help="replay the plan in a fresh world and save a GIF")
     parser.add_argument("--basis-only", action="store_true", help="ignore mechanisms: basis operators only")
@@ -46,25 +52,33 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    started = time.perf_counter()  # the time limit covers loading and world building too
+    started = process.started()  # the time limit covers start-up, loading and world building too
     args = _parser().parse_args(argv)
-    if args.timeout <= 0:
-        print("error: --timeout must be positive", file=sys.stderr)
-        return EXIT_BAD_INPUT
     try:
         loaded = load_domain([args.domain, *args.mechanisms])
         for warning in loaded.warnings:
             print_warning(warning)
         loaded, problem = load_problem(args.problem, [loaded])
+        inputs = [*loaded.files, args.problem]
+        for error in (output_error(args.json, "--json", inputs, (".json",)),
+                      output_error(args.render, "--render", inputs, (".gif",))):
+            if error is not None:
+                raise error
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
-    if args.skeletons is not None:
-        return _print_skeletons(loaded, problem, args.skeletons, args.timeout)
-    if loaded.domain.streams:
-        from .planner.plan_command import plan_manipulation  # imports PyBullet: only for scenes
-        return plan_manipulation(args, loaded, problem, started)
-    result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, args.timeout)
+    try:  # grounding may still find a formula it cannot expand (too many alternatives)
+        if args.skeletons is not None:
+            return _print_skeletons(loaded, problem, args.skeletons, started + args.timeout)
+        if loaded.domain.streams:
+            from .planner.plan_command import plan_manipulation  # imports PyBullet: only for scenes
+            return plan_manipulation(args, loaded, problem, started)
+        remaining = args.timeout - (time.perf_counter() - started)
+        result = solve(loaded.domain, problem, loaded.types, args.search, args.weight, max(remaining, 1e-3))
+    except PddlError as error:
+        print_error(error)
+        return EXIT_BAD_INPUT
+    result.time_s = time.perf_counter() - started
     for name, plan_args in result.plan:
         print(f"({' '.join((name,) + plan_args)})")
     print(_summary(result), file=sys.stderr)
@@ -80,7 +94,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                             [{"name": name, "args": list(a), "params": {}} for name, a in result.plan],
                             {"skeletons": 1, "samples": {}, **result.stats})
         except OSError as exc:
-            print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
+            print_error(PddlError(f"--json {args.json}: cannot write: {exc.strerror or exc}"))
             return EXIT_BAD_INPUT
     return status
 
@@ -94,20 +108,19 @@ def _summary(result: ClassicalResult) -> str:
             f"{s['evaluations']} evaluations")
 
 
-def _print_skeletons(loaded: LoadedDomain, problem: Problem, count: int, timeout: float) -> int:
+def _print_skeletons(loaded: LoadedDomain, problem: Problem, wanted: int, deadline: float) -> int:
     from .planner.bilevel import prepare_task  # the task the bilevel planner searches
 
-    deadline = time.perf_counter() + timeout
     task, _ = prepare_task(loaded, problem)
     found: List[str] = []
     for plan in iter_skeletons(task, deadline=deadline):
         found.append(" ".join(task.operators[o].label for o in plan))
         print(f"{len(found)}: {found[-1]}")
-        if len(found) >= count:
+        if len(found) >= wanted:
             break
     print(f"{len(found)} skeleton{'s' * (len(found) != 1)}", file=sys.stderr)
     return EXIT_OK if found else EXIT_UNSOLVED
 
 
 if __name__ == "__main__":
-    sys.exit(run(main))
+    run_and_exit(main)

@@ -5,12 +5,12 @@ Exit 0 on success, 2 on bad input (one `FILE:LINE:COL: error:` line).
 """
 from __future__ import annotations
 
-import argparse
-import os
 import sys
 from typing import Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, print_error, run
+from .cli import (
+    EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, finite, number_in, output_error, print_error, run_and_exit,
+)
 from .lang.errors import PddlError
 from .lang.loader import load_domain, load_problem
 from .world.build import build_world
@@ -19,17 +19,19 @@ from .world.render import Camera, render, save_png
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m pdsketch_mech.render", description=__doc__.split("\n\n")[0])
+    parser = ArgumentParser(prog="python -m pdsketch_mech.render", description=__doc__.split("\n\n")[0])
     parser.add_argument("problem", metavar="PROBLEM", help="problem file with a :scene")
     parser.add_argument("domains", nargs="*", metavar="DOMAIN", help="its domain (default: found beside it)")
     parser.add_argument("--out", default="scene.png", metavar="FILE.png", help="image to write (default scene.png)")
     parser.add_argument("--settle", action="store_true", help="simulate until objects come to rest first")
-    parser.add_argument("--yaw", type=float, default=45.0, help="camera yaw in degrees (default 45)")
-    parser.add_argument("--pitch", type=float, default=-35.0, help="camera pitch in degrees (default -35)")
-    parser.add_argument("--distance", type=float, default=1.9, help="camera distance in metres (default 1.9)")
+    parser.add_argument("--yaw", type=finite, default=45.0, help="camera yaw in degrees (default 45)")
+    parser.add_argument("--pitch", type=finite, default=-35.0, help="camera pitch in degrees (default -35)")
+    parser.add_argument("--distance", type=number_in(0.05, 100.0), default=1.9,
+                        help="camera distance in metres (default 1.9)")
     args = parser.parse_args(argv)
-    if not os.path.isdir(os.path.dirname(os.path.abspath(args.out))):
-        print(f"{args.out}: error: its folder does not exist", file=sys.stderr)
+    error = output_error(args.out, "--out", [args.problem, *args.domains], (".png",))
+    if error is not None:
+        print_error(error)
         return EXIT_BAD_INPUT
     try:
         domains = [load_domain([d]) for d in args.domains]
@@ -50,4 +52,4 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(run(main))
+    run_and_exit(main)

@@ -108,7 +108,7 @@ _DOMAIN_HEADER = re.compile(r"^\s*(?:;[^\n]*\n\s*)*\(\s*define\s*\(\s*domain\s+(
 def declared_domain_name(path: str) -> Optional[str]:
     """The name in a file's `(define (domain NAME)` header, without a full parse."""
     try:
-        with open(path, encoding="utf-8") as handle:
+        with open(path, encoding="utf-8-sig") as handle:  # a byte-order mark is not text
             match = _DOMAIN_HEADER.match(handle.read(4096))
     except (OSError, UnicodeDecodeError):
         return None

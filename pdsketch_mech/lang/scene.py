@@ -8,13 +8,15 @@ Scene syntax, one entry per physical object declared in `:objects`:
       (box   :asset "block/1" :position (0.8 0 0.03) :quat (0 0 0 1) :mass 0.3 :friction 0.6))
 
 Orientation is given at most once: `:quat (x y z w)`, `:rpy (r p y)` in radians, or
-`:rpy-deg (r p y)` in degrees (default: identity). `:scale` is one factor or three.
+`:rpy-deg (r p y)` in degrees (default: identity). `:scale` is one factor (or three equal
+ones). Values must make physical sense: mass, friction and scale within `LIMITS`, and no
+object resting `:on` itself, directly or through a cycle.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 from .errors import PddlError, did_you_mean
 from .nodes import Problem, SceneEntry, SceneProp, Symbol
@@ -30,12 +32,17 @@ SCENE_KEYS = {
     ":rpy": "roll pitch yaw in radians (r p y)",
     ":rpy-deg": "roll pitch yaw in degrees (r p y)",
     ":fixed": "a flag with no value",
-    ":mass": "a positive number (kg)",
-    ":friction": "a non-negative number",
-    ":scale": "a positive number or a vector (sx sy sz)",
+    ":mass": "a number of kilograms in [0.001, 1000]",
+    ":friction": "a friction coefficient in [0, 10]",
+    ":scale": "a factor in [0.01, 100] (one number, or three equal numbers)",
     ":on": "the name of the supporting scene object",
     ":color": "a vector (r g b a) with entries in [0, 1]",
 }
+
+
+# The physically meaningful range of each number (inclusive): PyBullet misbehaves far
+# outside them (a 1e-300 scale makes degenerate meshes, an infinite mass explodes).
+LIMITS = {":mass": (0.001, 1000.0), ":friction": (0.0, 10.0), ":scale": (0.01, 100.0)}
 
 
 @dataclass(frozen=True)
@@ -68,10 +75,34 @@ def build_scene(problem: Problem) -> Tuple[SceneObject, ...]:
     objects = tuple(_scene_object(entry) for entry in entries.values())
     for obj, entry in zip(objects, entries.values()):
         if obj.support is not None and obj.support not in entries:
-            prop = next(p for p in entry.props if p.key == ":on")
             raise PddlError(f"scene object '{obj.name}' is :on '{obj.support}', which has no scene entry",
-                            prop.loc)
+                            _prop(entry, ":on").loc)
+    _check_support_cycles(objects, entries)
     return objects
+
+
+def _prop(entry: SceneEntry, key: str) -> SceneProp:
+    return next(p for p in entry.props if p.key == key)
+
+
+def _check_support_cycles(objects: Tuple[SceneObject, ...], entries: Dict[str, SceneEntry]) -> None:
+    """No object may rest on itself, directly or through others (`a :on b`, `b :on a`)."""
+    support = {obj.name: obj.support for obj in objects}
+    settled: set = set()  # objects whose chain of supports is known to end
+    for name in support:
+        chain: List[str] = []
+        on_chain: set = set()
+        current: Optional[str] = name
+        while current is not None and current not in settled:
+            if current in on_chain:
+                cycle = chain[chain.index(current):] + [current]
+                what = ("is :on itself" if len(cycle) == 2 else
+                        "rests on itself through a cycle: " + " :on ".join(cycle))
+                raise PddlError(f"scene object '{current}' {what}", _prop(entries[current], ":on").loc)
+            chain.append(current)
+            on_chain.add(current)
+            current = support[current]
+        settled.update(chain)
 
 
 def _scene_object(entry: SceneEntry) -> SceneObject:
@@ -116,18 +147,16 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
         check(":fixed", props[":fixed"].value is None)
     for key in (":mass", ":friction"):
         if key in props:
-            check(key, isinstance(props[key].value, float))
-    mass = _number(props, ":mass")
-    if mass is not None:
-        check(":mass", mass > 0)
-    friction = _number(props, ":friction")
-    if friction is not None:
-        check(":friction", friction >= 0)
+            check(key, _in_limits(key, props[key].value))
+    mass, friction = _number(props, ":mass"), _number(props, ":friction")
     scale: Vec3 = (1.0, 1.0, 1.0)
     if ":scale" in props:
         value = props[":scale"].value
         scale = (value,) * 3 if isinstance(value, float) else _vector(value, 3)
-        check(":scale", scale is not None and all(s > 0 for s in scale))
+        check(":scale", scale is not None and all(_in_limits(":scale", s) for s in scale))
+        if len(set(scale)) > 1:
+            raise PddlError(f"scene object '{entry.name}': :scale {_text(scale)} is not uniform; the "
+                            "simulator scales models by one factor: give one number", props[":scale"].loc)
     support = None
     if ":on" in props:
         check(":on", isinstance(props[":on"].value, Symbol))
@@ -148,6 +177,15 @@ def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
     cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
     return (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
             cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy)
+
+
+def _in_limits(key: str, value) -> bool:
+    low, high = LIMITS[key]
+    return isinstance(value, float) and low <= value <= high
+
+
+def _text(vector) -> str:
+    return "(" + " ".join(f"{v:g}" for v in vector) + ")"
 
 
 def _vector(value, length: int):

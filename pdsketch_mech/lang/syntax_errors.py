@@ -14,7 +14,7 @@ from .nodes import Loc
 
 # How terminals are named in messages ("expected ')' or a variable").
 _TERMINAL_WORDS = {
-    "NAME": "a name", "VARIABLE": "a variable", "REQUIREMENT": "a requirement such as :strips",
+    "NAME": "a name", "NAME_RUN": "a name", "VARIABLE": "a variable", "REQUIREMENT": "a requirement such as :strips",
     "KEYWORD": "a property such as :asset", "NUMBER": "a number", "STRING": 'a "string"',
     "$END": "end of file", "<END-OF-FILE>": "end of file",
 }
@@ -82,6 +82,8 @@ def syntax_error(exc: UnexpectedInput, text: str, file: str, terminals: Sequence
     parser = getattr(exc, "interactive_parser", None)
     if isinstance(exc, UnexpectedToken):
         expected, word, kind = exc.expected, str(exc.token), exc.token.type
+        if kind == "NAME_RUN":  # several names lexed as one token: the first is unexpected
+            word, kind = word.split()[0], "NAME"
     else:
         expected, kind = exc.allowed, None
         word = re.match(r"[^\s()]*", text[exc.pos_in_stream:]).group(0) or text[exc.pos_in_stream]

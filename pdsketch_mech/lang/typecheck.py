@@ -9,12 +9,12 @@ parameter name twice (IPC files do, e.g. logistics' `(in ?obj ?obj)`; only the t
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, Iterable, List, Mapping, Optional, Sequence
+from typing import Dict, List, Mapping, Optional, Sequence
 
 from .errors import PddlError, PddlWarning, did_you_mean
 from .nodes import (
     Action, ActionCall, And, Atom, Domain, Equals, Exists, Forall, Formula, Imply, Loc,
-    Mechanism, Not, Or, Predicate, Problem, Stream, Term, TypedName, Var, When,
+    Mechanism, Not, Or, Predicate, Problem, RunLoc, Stream, Term, TypedName, Var, When,
 )
 from .scene import build_scene
 
@@ -48,24 +48,37 @@ def type_table(domain: Domain) -> TypeTable:
     """Build and validate the type hierarchy (declared parents, no cycles, no duplicates)."""
     table = TypeTable()
     declared = list(domain.types) + list(domain.value_types)
-    for item in declared:
+    for index, item in enumerate(declared):
         if item.name in table.parents:
-            raise PddlError(f"type '{item.name}' is defined twice", item.loc)
+            raise PddlError(f"type '{item.name}' is defined twice", name_loc(declared, index))
         table.parents[item.name] = item.type
     table.value_types = {t.name for t in domain.value_types}
-    for item in declared:
+    for index, item in enumerate(declared):
         if item.type not in table.parents:
             raise PddlError(f"unknown parent type '{item.type}' of type '{item.name}'"
-                            f"{did_you_mean(item.type, table.parents)}", item.loc)
+                            f"{did_you_mean(item.type, table.parents)}", name_loc(declared, index))
         seen = set()
         for name in table.ancestors(item.name):
             if name in seen:
-                raise PddlError(f"type '{item.name}' is its own ancestor", item.loc)
+                raise PddlError(f"type '{item.name}' is its own ancestor", name_loc(declared, index))
             seen.add(name)
-    for item in domain.value_types:
+    for index, item in enumerate(domain.value_types):
         if item.type != ROOT_TYPE and item.type not in table.value_types:
-            raise PddlError(f"value type '{item.name}' must extend another value type or object", item.loc)
+            raise PddlError(f"value type '{item.name}' must extend another value type or object",
+                            name_loc(domain.value_types, index))
     return table
+
+
+def name_loc(items: Sequence[TypedName], index: int) -> Optional[Loc]:
+    """Where `items[index]` is declared. The names of one run in a declaration list share a
+    `RunLoc` (and sit next to each other), so the name's place in its run is counted back."""
+    loc = items[index].loc
+    if not isinstance(loc, RunLoc):
+        return loc
+    first = index
+    while first > 0 and items[first - 1].loc is loc:
+        first -= 1
+    return loc.name_loc(index - first)
 
 
 @dataclass
@@ -149,21 +162,27 @@ def _check_parameters(params: Sequence[TypedName], types: TypeTable, owner: str,
     return scope
 
 
-def _declare_objects(items: Iterable[TypedName], types: TypeTable, kind: str,
+def _declare_objects(items: Sequence[TypedName], types: TypeTable, kind: str,
                      existing: Mapping[str, str]) -> Dict[str, str]:
+    """Name -> type of `existing` and `items`. Linear in the number of items: a problem may
+    declare millions of objects."""
     objects = dict(existing)
-    declared: Dict[str, TypedName] = {}
-    for item in items:
-        _check_type(item.type, types, item.loc)
-        if types.is_value(item.type):
+    redeclared = set()  # constants declared again with their own type (allowed once)
+    value_type: Dict[str, bool] = {}
+    for index, item in enumerate(items):
+        if item.type not in value_type:
+            _check_type(item.type, types, name_loc(items, index))
+            value_type[item.type] = types.is_value(item.type)
+        if value_type[item.type]:
             raise PddlError(f"{kind} '{item.name}' has value type '{item.type}'; values come from "
-                            "streams, not from declarations", item.loc)
-        if item.name in declared:
-            raise PddlError(f"{kind} '{item.name}' is declared twice", item.loc)
-        if item.name in objects and objects[item.name] != item.type:
-            raise PddlError(f"{kind} '{item.name}' is already a constant of type '{objects[item.name]}'",
-                            item.loc)
-        declared[item.name] = item
+                            "streams, not from declarations", name_loc(items, index))
+        if item.name in objects:
+            if item.name not in existing or item.name in redeclared:
+                raise PddlError(f"{kind} '{item.name}' is declared twice", name_loc(items, index))
+            if objects[item.name] != item.type:
+                raise PddlError(f"{kind} '{item.name}' is already a constant of type "
+                                f"'{objects[item.name]}'", name_loc(items, index))
+            redeclared.add(item.name)
         objects[item.name] = item.type
     return objects
 

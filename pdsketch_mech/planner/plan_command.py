@@ -18,9 +18,14 @@ from .bilevel import PlanResult, bilevel_plan
 from .replay import replay
 from .serialize import plan_entries
 
+# Seconds before the limit at which the planner stops taking new work: the step in flight
+# (one sample and simulation, up to ~0.5 s) and writing the results end near the limit.
+FINISH_MARGIN = 0.25
+
 
 def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: Problem, started: float) -> int:
-    """Plan within `args.timeout` seconds counted from `started` (time.perf_counter())."""
+    """Plan within `args.timeout` seconds counted from `started` (a time.perf_counter() value:
+    the start of the process for the command line)."""
     if problem.scene is None:
         print_error(PddlError(f"problem '{problem.name}' has no :scene; domain '{loaded.domain.name}' has "
                               "streams, so the planner needs the physical scene", problem.loc))
@@ -32,9 +37,10 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         return EXIT_BAD_INPUT
     notes = learned_sampler_notes(loaded, use_learned=not args.no_learned_samplers, use_mechanisms=not args.basis_only)
     with world:
-        remaining = max(0.1, args.timeout - (time.perf_counter() - started))
+        remaining = max(0.1, args.timeout - (time.perf_counter() - started) - FINISH_MARGIN)
         result = bilevel_plan(loaded, problem, world, timeout=remaining, seed=args.seed,
                               use_mechanisms=not args.basis_only)
+    result.time_s = time.perf_counter() - started  # what the user waited, start-up included
     result.stats["learned_samplers"] = "off" if args.no_learned_samplers else "unavailable"
     entries = plan_entries(result.steps, result.values)
     for entry in entries:

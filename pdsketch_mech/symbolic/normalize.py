@@ -26,25 +26,25 @@ Conjunction = Tuple[Literal, ...]
 
 
 def substitute(f: Formula, binding: Mapping[str, str]) -> Formula:
-    """Replace bound variables by constants (quantifier expansion)."""
+    """Replace bound variables by constants (quantifier expansion); locations are kept for errors."""
     def term(t: Term) -> Term:
         return Const(binding[t.name]) if isinstance(t, Var) and t.name in binding else t
 
     if isinstance(f, Atom):
-        return Atom(f.predicate, tuple(term(a) for a in f.args))
+        return Atom(f.predicate, tuple(term(a) for a in f.args), f.loc)
     if isinstance(f, Equals):
-        return Equals(term(f.left), term(f.right))
+        return Equals(term(f.left), term(f.right), f.loc)
     if isinstance(f, Not):
-        return Not(substitute(f.body, binding))
+        return Not(substitute(f.body, binding), f.loc)
     if isinstance(f, (And, Or)):
-        return type(f)(tuple(substitute(p, binding) for p in f.parts))
+        return type(f)(tuple(substitute(p, binding) for p in f.parts), f.loc)
     if isinstance(f, Imply):
-        return Imply(substitute(f.condition, binding), substitute(f.consequence, binding))
+        return Imply(substitute(f.condition, binding), substitute(f.consequence, binding), f.loc)
     if isinstance(f, (Forall, Exists)):
         inner = {k: v for k, v in binding.items() if k not in {v.name for v in f.variables}}
-        return type(f)(f.variables, substitute(f.body, inner))
+        return type(f)(f.variables, substitute(f.body, inner), f.loc)
     if isinstance(f, When):
-        return When(substitute(f.condition, binding), substitute(f.effect, binding))
+        return When(substitute(f.condition, binding), substitute(f.effect, binding), f.loc)
     raise TypeError(f"not a formula: {f!r}")
 
 
@@ -57,28 +57,30 @@ def expand_quantifier(f: Union[Forall, Exists], objects_by_type: Mapping[str, Se
 
 
 def dnf(f: Formula, objects_by_type: Mapping[str, Sequence[str]], positive: bool = True) -> List[Conjunction]:
-    """The formula (negated if not `positive`) as a list of conjunctions of literals."""
+    """The formula (negated if not `positive`) as a list of conjunctions of literals.
+
+    One Python frame per level of nesting (formulas may nest ~500 deep), and at most
+    `MAX_DISJUNCTS` alternatives at any level: nested quantifiers grow exponentially."""
     if isinstance(f, (Atom, Equals)):
         return [(Literal(positive, f),)]
     if isinstance(f, Not):
         return dnf(f.body, objects_by_type, not positive)
+    loc = f.loc
     if isinstance(f, Imply):
-        return dnf(Or((Not(f.condition), f.consequence)), objects_by_type, positive)
+        f = Or((Not(f.condition), f.consequence))
     if isinstance(f, (Forall, Exists)):
         parts = expand_quantifier(f, objects_by_type)
         f = And(tuple(parts)) if isinstance(f, Forall) else Or(tuple(parts))
     if isinstance(f, (And, Or)):
         conjunctive = isinstance(f, And) == positive
-        branches = [dnf(p, objects_by_type, positive) for p in f.parts]
-        if not conjunctive:
-            return [c for branch in branches for c in branch]
-        result: List[Conjunction] = [()]
-        for branch in branches:
-            result = [left + right for left in result for right in branch]
+        result: List[Conjunction] = [()] if conjunctive else []
+        for part in f.parts:
+            branch = dnf(part, objects_by_type, positive)
+            result = [left + right for left in result for right in branch] if conjunctive else result + branch
             if len(result) > MAX_DISJUNCTS:
-                raise PddlError(f"formula expands to more than {MAX_DISJUNCTS} alternatives", f.loc)
+                raise PddlError(f"formula expands to more than {MAX_DISJUNCTS} alternatives", loc)
         return result
-    raise PddlError(f"'{type(f).__name__.lower()}' cannot appear here", getattr(f, "loc", None))
+    raise PddlError(f"'{type(f).__name__.lower()}' cannot appear here", loc)
 
 
 @dataclass(frozen=True)

@@ -64,24 +64,28 @@ class _World:
         return (atom.predicate,) + tuple(_value(a, binding) for a in atom.args)
 
     def holds(self, f: Formula, b: Binding, state: State) -> bool:
-        """Truth of a condition (closed world: an atom is true iff it is in `state`)."""
+        """Truth of a condition (closed world: an atom is true iff it is in `state`).
+        Loops rather than all()/any() over generators: one Python frame per level of a
+        formula that may nest ~500 deep."""
         if isinstance(f, Atom):
             return self.ground(f, b) in state
         if isinstance(f, Equals):
             return _value(f.left, b) == _value(f.right, b)
         if isinstance(f, Not):
             return not self.holds(f.body, b, state)
-        if isinstance(f, And):
-            return all(self.holds(p, b, state) for p in f.parts)
-        if isinstance(f, Or):
-            return any(self.holds(p, b, state) for p in f.parts)
         if isinstance(f, Imply):
             return not self.holds(f.condition, b, state) or self.holds(f.consequence, b, state)
-        if isinstance(f, Forall):
-            return all(self.holds(f.body, inner, state) for inner in self.bindings(f.variables, b))
-        if isinstance(f, Exists):
-            return any(self.holds(f.body, inner, state) for inner in self.bindings(f.variables, b))
-        raise ValueError(f"not a condition: {write_formula(f)}")
+        if isinstance(f, (And, Or)):
+            cases = [(part, b) for part in f.parts]
+        elif isinstance(f, (Forall, Exists)):
+            cases = [(f.body, inner) for inner in self.bindings(f.variables, b)]
+        else:
+            raise ValueError(f"not a condition: {write_formula(f)}")
+        decisive = isinstance(f, (Or, Exists))  # one true part decides an or, one false part an and
+        for part, binding in cases:
+            if self.holds(part, binding, state) == decisive:
+                return decisive
+        return not decisive
 
     def why_false(self, f: Formula, b: Binding, state: State) -> str:
         """A short reason why the (false) condition `f` fails, naming the culprit atom."""

@@ -1,0 +1,124 @@
+"""What a command-line process knows about itself: when it started, and how Ctrl-C ends it.
+
+- Time limits (`plan --timeout`) and reported times count from the start of the process, as
+  a user with a stopwatch does: interpreter start-up and imports included.
+- Ctrl-C ends a command within `GRACE` seconds with exit status 130 and the line
+  `interrupted`, at any moment. While the command's `main` runs, the handler raises
+  `KeyboardInterrupt` as Python's default does (`cli.run` turns it into the line and the
+  status, after `finally` blocks have run) and also starts a watchdog: some libraries
+  swallow the exception — trimesh imports its optional dependencies inside
+  `except BaseException`, so a Ctrl-C during its import vanished and the run went on to
+  its full time limit — and then the watchdog ends the process itself. Before `main` runs
+  (module imports) and after it returns, there is nothing to clean up: the process ends
+  at once.
+
+Only processes running one of our commands (`python -m pdsketch_mech.X`) install the
+handler (the package's `__init__` does it first thing); a library user's process is left
+alone.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import sys
+import threading
+import time
+from typing import Iterator, Optional, Sequence
+
+GRACE = 0.15          # seconds a KeyboardInterrupt gets to end the process on its own
+EXIT_INTERRUPTED = 130
+
+_interrupted = threading.Event()
+_reported = threading.Event()
+_in_main = threading.Event()  # KeyboardInterrupt is only raised where `cli.run` catches it
+
+
+def _process_age() -> Optional[float]:
+    """Seconds since this process started (Linux: /proc/self/stat), or None if unknown."""
+    try:
+        with open("/proc/self/stat", "rb") as handle:
+            fields = handle.read().rsplit(b")", 1)[1].split()
+        start_ticks = int(fields[19])  # field 22 (starttime), counted after the ")" of field 2
+        return time.clock_gettime(time.CLOCK_BOOTTIME) - start_ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, AttributeError):
+        return None
+
+
+_STARTED = time.perf_counter() - max(0.0, _process_age() or 0.0)
+
+
+def command_module(argv: Sequence[str]) -> Optional[str]:
+    """The module run by `python [options] -m MODULE ...` (`sys.orig_argv`), else None."""
+    args = iter(argv[1:])
+    for arg in args:
+        if arg == "-m":
+            return next(args, None)
+        if arg.startswith("-m"):
+            return arg[2:]
+        if arg in ("-X", "-W"):
+            next(args, None)
+        elif arg == "-c" or not arg.startswith("-"):
+            return None  # a command string or a script: not one of ours
+    return None
+
+
+def is_command() -> bool:
+    """Whether this process runs one of the package's commands."""
+    module = command_module(getattr(sys, "orig_argv", ()))
+    return module is not None and module.split(".")[0] == __package__
+
+
+def started() -> float:
+    """The `time.perf_counter()` value at which a command's clock starts: the start of the
+    process for a command, the call itself for a library caller (a test calling `main`)."""
+    return _STARTED if is_command() else time.perf_counter()
+
+
+def install_interrupt_handler() -> None:
+    """Ctrl-C raises KeyboardInterrupt and guarantees exit 130 within `GRACE` seconds."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, _on_interrupt)
+
+
+@contextlib.contextmanager
+def main_running() -> Iterator[None]:
+    """Marks the span in which a Ctrl-C is raised as KeyboardInterrupt (see the module doc)."""
+    _in_main.set()
+    try:
+        yield
+    finally:
+        _in_main.clear()
+
+
+def interrupted() -> bool:
+    """Whether Ctrl-C was pressed."""
+    return _interrupted.is_set()
+
+
+def report_interrupt() -> int:
+    """Print `interrupted` (once) and return the exit status, for the KeyboardInterrupt handler."""
+    if not _reported.is_set():
+        _reported.set()
+        print("interrupted", file=sys.stderr, flush=True)
+    return EXIT_INTERRUPTED
+
+
+def _on_interrupt(signum, frame) -> None:
+    if _interrupted.is_set():
+        return  # a second Ctrl-C: the watchdog is already counting
+    _interrupted.set()
+    if not _in_main.is_set():
+        _force_exit()
+    watchdog = threading.Timer(GRACE, _force_exit)
+    watchdog.daemon = True
+    watchdog.start()
+    raise KeyboardInterrupt
+
+
+def _force_exit() -> None:
+    """The KeyboardInterrupt was swallowed (or exit is slow): end the process now."""
+    if not _reported.is_set():
+        _reported.set()
+        os.write(2, b"interrupted\n")
+    os._exit(EXIT_INTERRUPTED)
