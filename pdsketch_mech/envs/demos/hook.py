@@ -66,7 +66,7 @@ def demo(world: "World", instance: "Instance", driver: Driver) -> None:
     driver.up(0.06)
     put = (tx, ty, rest_z + 0.002)
     nx, ny, _, _ = planar(world, target)
-    if abs(nx - tx) < 0.3 and abs(ny - ty) < 0.12:
+    if abs(nx - tx) < 0.3 and abs(ny - ty) < 0.2:
         put = (tx, ty + 0.15, rest_z + 0.002)
     driver.place_held([(put, yaw_quat(tyaw))])
     driver.release()
