@@ -89,6 +89,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     skeletons = iter_skeletons(task, deadline=deadline)
     active: Dict[int, Refinement] = {}
     created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
+    stats["skeleton_log"] = created
     failures: Counter = Counter()
     more = True
     try:
@@ -128,7 +129,6 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 failures += _retire(refinement, stats)
     finally:
         world.restore(initial)
-        stats["skeleton_log"] = created
     for refinement in active.values():
         failures += _retire(refinement, stats)
     stats["sim_steps"] = world.sim_steps - sim_start

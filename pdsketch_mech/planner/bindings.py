@@ -20,7 +20,8 @@ from ..samplers.trajectory import free_motion, grasp_motion, place_motion, push_
 from ..symbolic.optimistic import Placeholder, is_placeholder
 from ..world.world import World
 
-Sampler = Callable[[World, Stream, List[object], np.random.Generator], Iterator[object]]
+# (world, stream, input values, generator, deadline as time.perf_counter()) -> values
+Sampler = Callable[[World, Stream, List[object], np.random.Generator, float], Iterator[object]]
 
 
 # Candidates a sampler examines per visit of a step: the adaptive planner revisits steps,
@@ -29,20 +30,20 @@ ATTEMPTS = 120
 GRASP_ATTEMPTS = 60  # grasp proposals already passed cheap geometric tests (samplers/grasp.py)
 
 
-def _grasp(world: World, stream: Stream, inputs: List[object], rng) -> Iterator[object]:
-    return sample_grasps(world, inputs[0], rng, max_attempts=GRASP_ATTEMPTS)
+def _grasp(world: World, stream: Stream, inputs: List[object], rng, deadline: float) -> Iterator[object]:
+    return sample_grasps(world, inputs[0], rng, max_attempts=GRASP_ATTEMPTS, deadline=deadline)
 
 
-def _placement(world: World, stream: Stream, inputs: List[object], rng) -> Iterator[object]:
-    return sample_placements(world, inputs[0], inputs[1], rng, max_attempts=ATTEMPTS)
+def _placement(world: World, stream: Stream, inputs: List[object], rng, deadline: float) -> Iterator[object]:
+    return sample_placements(world, inputs[0], inputs[1], rng, max_attempts=ATTEMPTS, deadline=deadline)
 
 
-def _contact(world: World, stream: Stream, inputs: List[object], rng) -> Iterator[object]:
+def _contact(world: World, stream: Stream, inputs: List[object], rng, deadline: float) -> Iterator[object]:
     target, support = inputs[-2], inputs[-1]  # (?y ?s) or (?x ?y ?s): the pusher is what the hand holds
-    return sample_contacts(world, target, support, rng, max_attempts=ATTEMPTS)
+    return sample_contacts(world, target, support, rng, max_attempts=ATTEMPTS, deadline=deadline)
 
 
-def _trajectory(world: World, stream: Stream, inputs: List[object], rng) -> Iterator[object]:
+def _trajectory(world: World, stream: Stream, inputs: List[object], rng, deadline: float) -> Iterator[object]:
     """Dispatch on the kind of motion the stream certifies."""
     certified = {a.predicate for a in _atoms(stream.certified)}
     values = [v for v in inputs if not isinstance(v, str)]
@@ -96,7 +97,7 @@ class StepSampler:
         inputs = [values.get(v, v) for v in holder.inputs]
         key = stream.sampler or stream.name
         drawn = 0
-        for value in SAMPLERS[key](world, stream, inputs, rng):
+        for value in SAMPLERS[key](world, stream, inputs, rng, self.deadline):
             if time.perf_counter() > self.deadline:
                 break
             self.counts[key] += 1

@@ -12,6 +12,8 @@ penetrating anything. Only shapes and poses are read, never names or categories.
 """
 from __future__ import annotations
 
+import time
+
 from functools import lru_cache
 from typing import TYPE_CHECKING, Iterator, Optional, Tuple
 
@@ -176,10 +178,12 @@ def _tool_contact(world: "World", tool: str, p1: np.ndarray, n1: np.ndarray, p2:
 
 
 def sample_contacts(world: "World", target: str, support: str, rng: np.random.Generator,
-                    max_attempts: int = 300, gap: float = 0.01) -> Iterator[Contact]:
+                    max_attempts: int = 300, gap: float = 0.01,
+                    deadline: float = float("inf")) -> Iterator[Contact]:
     """Reachable, collision-free contacts of the held object (or the bare gripper) with the
     side of `target`, which rests on `support`; stops after `max_attempts` candidates (one
-    target point each, with a tool point when a tool is held). The world is left as found."""
+    target point each, with a tool point when a tool is held) or at `deadline`
+    (time.perf_counter()). The world is left as found."""
     tool = world.attachment.name if world.attachment is not None else None
     target_mesh = body_mesh(world, target)
     if tool is not None:
@@ -203,6 +207,8 @@ def sample_contacts(world: "World", target: str, support: str, rng: np.random.Ge
         normals = local_normals @ target_pose[:3, :3].T
         for p2, n2 in zip(points, normals):
             attempts += 1
+            if time.perf_counter() > deadline:
+                return
             if abs(float(np.dot(n2, n_s))) >= side_cos:
                 continue
             d = -(n2 - np.dot(n2, n_s) * n_s)

@@ -12,6 +12,8 @@ none in 600 samples.
 """
 from __future__ import annotations
 
+import time
+
 from functools import lru_cache
 from typing import TYPE_CHECKING, Iterator, List, Optional, Tuple
 
@@ -237,11 +239,13 @@ def verify_grasp(world: "World", grasp: Grasp, rng: np.random.Generator) -> bool
     return grasp_configurations(world, grasp, rng) is not None
 
 
-def sample_grasps(world: "World", obj: str, rng: np.random.Generator, max_attempts: int = 300) -> Iterator[Grasp]:
+def sample_grasps(world: "World", obj: str, rng: np.random.Generator, max_attempts: int = 300,
+                  deadline: float = float("inf")) -> Iterator[Grasp]:
     """Reachable, collision-free antipodal grasps of `obj` at its current pose; stops after
-    `max_attempts` proposals (or POINTS_PER_ATTEMPT times as many surface points)."""
+    `max_attempts` proposals (or POINTS_PER_ATTEMPT times as many surface points) or at
+    `deadline` (time.perf_counter())."""
     for attempt, grasp in enumerate(propose_grasps(world, obj, rng, POINTS_PER_ATTEMPT * max_attempts)):
-        if attempt >= max_attempts:
+        if attempt >= max_attempts or time.perf_counter() > deadline:
             return
         if verify_grasp(world, grasp, rng):
             yield grasp

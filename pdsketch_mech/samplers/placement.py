@@ -8,6 +8,8 @@ holding it there (and at a pre-place pose above) must be reachable and collision
 """
 from __future__ import annotations
 
+import time
+
 from functools import lru_cache
 from typing import TYPE_CHECKING, Iterator, List, Optional, Tuple
 
@@ -130,9 +132,10 @@ def placement_configurations(world: "World", placement: Placement, rng: np.rando
 
 
 def sample_placements(world: "World", obj: str, support: str, rng: np.random.Generator,
-                      max_attempts: int = 300, up_cos: float = 0.85) -> Iterator[Placement]:
+                      max_attempts: int = 300, up_cos: float = 0.85,
+                      deadline: float = float("inf")) -> Iterator[Placement]:
     """Collision-free, reachable placements of the held `obj` on `support`'s upward faces;
-    stops after `max_attempts` candidates."""
+    stops after `max_attempts` candidates or at `deadline` (time.perf_counter())."""
     if world.attachment is None or world.attachment.name != obj:
         raise ValueError(f"placing '{obj}' requires holding it")
     body = world.bodies[obj]
@@ -143,6 +146,8 @@ def sample_placements(world: "World", obj: str, support: str, rng: np.random.Gen
     weights /= weights.sum()
     surface, surface_at = None, None
     for _ in range(max_attempts):
+        if time.perf_counter() > deadline:
+            return
         if world.pose(support) != surface_at:  # the caller may move things between yields
             surface_at = world.pose(support)
             surface = up_surface(world, support, up_cos)
