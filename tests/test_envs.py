@@ -20,6 +20,7 @@ from pdsketch_mech.world.asset_index import asset_info
 from conftest import ROOT
 
 SIX = ["edge", "hook", "lever", "poking", "com", "slope-blocker"]
+ALL = SIX + ["push-pick-hook", "hook-slope"]   # and the two compositional tasks
 HELD_OUT_CATEGORY = {"edge": "flat", "hook": "tool", "poking": "tool"}
 
 
@@ -27,13 +28,13 @@ def _categories(assets):
     return {a.split("/")[0] for a in assets}
 
 
-def test_the_six_tasks_are_listed():
-    assert list(TASKS) == SIX
+def test_the_eight_tasks_are_listed():
+    assert list(TASKS) == ALL
     with pytest.raises(KeyError, match="unknown task"):
         get_task("hok")
 
 
-@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("task", ALL)
 def test_same_task_split_seed_gives_the_same_bytes(task):
     for split in ("train", "test"):
         a = sample(TASKS[task], split, 7).problem_text()
@@ -42,7 +43,7 @@ def test_same_task_split_seed_gives_the_same_bytes(task):
     assert sample(TASKS[task]).problem_text() == sample(TASKS[task]).problem_text()
 
 
-@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("task", ALL)
 def test_splits_hold_out_instances_and_categories(task):
     spec = TASKS[task]
     for obj in spec.objects:
@@ -64,7 +65,7 @@ def test_splits_hold_out_instances_and_categories(task):
                     assert placed.asset in spec.object(placed.name).assets.of(split)
 
 
-@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("task", ALL)
 def test_noise_stays_within_the_declared_ranges(task):
     spec = TASKS[task]
     canonical = {o.name: o for o in sample(spec).objects}
@@ -83,7 +84,7 @@ def test_noise_stays_within_the_declared_ranges(task):
             assert placed.position[2] == pytest.approx(base.position[2], abs=1e-9)  # resting height
 
 
-@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("task", ALL)
 def test_generated_problems_parse_type_check_and_do_not_overlap(task):
     domain = load_domain([f"{ROOT}/domains/basis.pddl"])
     from pdsketch_mech.lang.typecheck import check_problem
@@ -98,7 +99,7 @@ def test_generated_problems_parse_type_check_and_do_not_overlap(task):
 def test_generation_is_fast():
     start = time.perf_counter()
     count = 0
-    for task in SIX:
+    for task in ALL:
         for seed in range(10):
             sample(TASKS[task], "test", seed).problem_text()
             count += 1
@@ -157,13 +158,13 @@ def _settle_check(task, split, seeds):
     return problems
 
 
-@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("task", ALL)
 def test_scenes_settle_in_place(task):
     assert _settle_check(task, "train", [None, 0, 1, 2, 3]) + _settle_check(task, "test", [0, 1, 2, 3]) == []
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("task", SIX)
+@pytest.mark.parametrize("task", ALL)
 @pytest.mark.parametrize("split", ["train", "test"])
 def test_fifty_scenes_settle_in_place(task, split):
     assert _settle_check(task, split, range(50)) == []
@@ -171,7 +172,7 @@ def test_fifty_scenes_settle_in_place(task, split):
 
 def test_check_command_accepts_generated_problems(tmp_path):
     paths = []
-    for task in SIX:
+    for task in ALL:
         path = tmp_path / f"{task}.pddl"
         path.write_text(sample(TASKS[task], "test", 5).problem_text())
         paths.append(str(path))

@@ -1,4 +1,5 @@
-"""The six task distributions of the paper (Sec. 4.1, appendix "Mechanism Learning Setup").
+"""The task distributions of the paper: six mechanisms (Sec. 4.1, appendix "Mechanism
+Learning Setup") and the two compositional tasks of Table 2.
 
 The robot's base is at the origin, the table (1.0 x 1.2 m) at (0.6, 0): its top spans
 x 0.1..1.1, y -0.6..0.6 at z = 0. Every movable object is perturbed by up to +-5 cm and
@@ -142,7 +143,47 @@ SLOPE = TaskSpec(
          "onto the blocker and stays",
 )
 
-TASKS: Dict[str, TaskSpec] = {t.name: t for t in (EDGE, HOOK, LEVER, POKING, COM, SLOPE)}
+# The paper's two compositional tasks (Table 2): solved by chaining the mechanisms above,
+# without training of their own.
+PUSH_PICK_HOOK = TaskSpec(
+    "push-pick-hook", "Push-then-Pick-then-Hook",
+    "a thin caliper lies flat (push it over the table's edge to pick it up), and a box lies out of "
+    "reach: the caliper, once held, is the hook that pulls the box closer",
+    objects=(
+        SMALL_TABLE,
+        ObjectSpec("tool", Assets(("caliper/0", "caliper/1"), ("caliper/2",)), xy=(0.42, 0.22), yaw=90.0,
+                   scale=(0.95, 1.1), role="the caliper: flat, then a hook"),
+        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.92, -0.05), yaw=90.0, mass=0.2,
+                   friction=0.6, scale=(0.9, 1.1), role="the box out of reach"),
+    ),
+    goal="(holding target)",
+    distractors=Distractors(CLUTTER, (0, 1), ((0.3, 0.5), (-0.4, -0.25))),
+    demo="push the caliper over the +y edge, pinch its overhang, use it as a hook to pull the box "
+         "closer, put it down, grasp the box",
+)
+
+HOOK_SLOPE = TaskSpec(
+    "hook-slope", "Hook-then-Place-on-Slope",
+    "a soup ladle reaches a box out of reach, which must then rest on a slope where it slides "
+    "unless something (the ladle, or a brick) blocks it below",
+    objects=(
+        TABLE,
+        ObjectSpec("tool", Assets(("soup-ladle/0", "soup-ladle/1"), ("soup-ladle/2",)), xy=(0.5, 0.15),
+                   scale=(0.9, 1.1), friction=1.5, role="the ladle: a hook, then a blocker"),
+        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.95, 0.0), yaw=90.0, mass=0.2,
+                   friction=0.6, scale=(0.9, 1.1), role="the box out of reach, to leave on the slope"),
+        ObjectSpec("slope", Assets(("slope/1",), ("slope/2",)), xy=(0.6, -0.3), fixed=True, noise_yaw=10.0,
+                   role="the slope, rising towards +x"),
+        ObjectSpec("brick", Assets(("brick/0", "brick/1"), ("brick/2",)), xy=(0.36, -0.08), yaw=90.0,
+                   role="another possible blocker"),
+    ),
+    goal="(and (support target slope) (handempty))",
+    demo="pull the box closer with the ladle, lay the ladle (or the brick) across the slope, put the "
+         "box on the slope just above it",
+)
+
+TASKS: Dict[str, TaskSpec] = {t.name: t for t in (EDGE, HOOK, LEVER, POKING, COM, SLOPE, PUSH_PICK_HOOK,
+                                                  HOOK_SLOPE)}
 
 
 def get_task(name: str) -> TaskSpec:
