@@ -15,6 +15,7 @@ from pdsketch_mech.lang.scene import quat_from_rpy
 from pdsketch_mech.lang.source import MAX_NESTING
 
 from conftest import ROOT
+from test_lang_errors import PROBLEM  # the same two-block problem
 
 DOMAIN = """(define (domain d)
   (:requirements :strips :typing :negative-preconditions :disjunctive-preconditions :existential-preconditions)
@@ -24,12 +25,6 @@ DOMAIN = """(define (domain d)
     :parameters (?x - block ?y - block)
     :precondition {pre}
     :effect (and (on ?x ?y) (not (clear ?y)))))
-"""
-PROBLEM = """(define (problem p)
-  (:domain d)
-  (:objects a b - block)
-  (:init (clear a) (clear b))
-  (:goal (on a b)))
 """
 WRAPPERS = {"not": ("(not (not ", "))"), "and": ("(and ", ")"), "or": ("(or ", ")"),
             "exists": ("(exists (?v - block) ", ")"), "imply": ("(imply (clear ?x) ", ")")}

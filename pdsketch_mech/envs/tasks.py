@@ -9,6 +9,7 @@ and, for Edge, Hook and Poking, a whole category never seen in training.
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Dict
 
 from .spec import Align, Assets, Distractors, ObjectSpec, TaskSpec
@@ -23,6 +24,10 @@ TABLE = ObjectSpec("table", Assets(("table",), ("table",)), xy=(0.6, 0.0), on=No
 
 SMALL_TABLE = ObjectSpec("table", Assets(("table/1",), ("table/1",)), xy=(0.6, 0.0), on=None, fixed=True,
                          noise_xy=(0.0, 0.0), noise_yaw=0.0, role="a smaller table, top at z = 0, +y edge at y = 0.5")
+
+# The Hook tasks' light box beyond the arm's reach (the shipped problems/hook-use.pddl scene).
+OUT_OF_REACH_BOX = ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.95, 0.0), yaw=90.0, mass=0.2,
+                              friction=0.6, scale=(0.9, 1.1), role="the box out of reach")
 
 # Small household objects that stay where they are put (no balls: they roll).
 CLUTTER = ("apple/0", "apple/1", "banana/0", "banana/1", "fork/0", "fork/1", "block/1", "walnut/0", "hairbrush/1")
@@ -55,8 +60,7 @@ HOOK = TaskSpec(
                                   ("caliper/0", "caliper/1", "caliper/2", "l-stick/2", "soup-ladle/2", "hammer/2",
                                    "spoon/2")),
                    xy=(0.5, 0.15), scale=(0.9, 1.15), role="the hook"),
-        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.95, 0.0), yaw=90.0, mass=0.2,
-                   friction=0.6, scale=(0.9, 1.1), role="the box out of reach"),
+        OUT_OF_REACH_BOX,
     ),
     goal="(holding target)",
     distractors=Distractors(CLUTTER, (0, 2), ((0.3, 0.55), (-0.45, -0.2))),
@@ -153,8 +157,7 @@ PUSH_PICK_HOOK = TaskSpec(
         SMALL_TABLE,
         ObjectSpec("tool", Assets(("caliper/0", "caliper/1"), ("caliper/2",)), xy=(0.42, 0.22), yaw=90.0,
                    scale=(0.95, 1.1), role="the caliper: flat, then a hook"),
-        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.92, -0.05), yaw=90.0, mass=0.2,
-                   friction=0.6, scale=(0.9, 1.1), role="the box out of reach"),
+        replace(OUT_OF_REACH_BOX, xy=(0.92, -0.05)),  # the smaller table ends at x = 1.0
     ),
     goal="(holding target)",
     distractors=Distractors(CLUTTER, (0, 1), ((0.3, 0.5), (-0.4, -0.25))),
@@ -170,8 +173,7 @@ HOOK_SLOPE = TaskSpec(
         TABLE,
         ObjectSpec("tool", Assets(("soup-ladle/0", "soup-ladle/1"), ("soup-ladle/2",)), xy=(0.5, 0.15),
                    scale=(0.9, 1.1), friction=1.5, role="the ladle: a hook, then a blocker"),
-        ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.95, 0.0), yaw=90.0, mass=0.2,
-                   friction=0.6, scale=(0.9, 1.1), role="the box out of reach, to leave on the slope"),
+        replace(OUT_OF_REACH_BOX, role="the box out of reach, to leave on the slope"),
         ObjectSpec("slope", Assets(("slope/1",), ("slope/2",)), xy=(0.6, -0.3), fixed=True, noise_yaw=10.0,
                    role="the slope, rising towards +x"),
         ObjectSpec("brick", Assets(("brick/0", "brick/1"), ("brick/2",)), xy=(0.36, -0.08), yaw=90.0,

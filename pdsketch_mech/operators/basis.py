@@ -10,9 +10,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Optional
 
 import numpy as np
-import pybullet as p
 
 from ..samplers.grasp import grasp_opening
+from ..samplers.trajectory import approach_axis
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
 from ..world.attachment import relative_pose
 from ..world.robot import CLOSED, MAX_OPENING
@@ -33,10 +33,6 @@ GRASP_ANGLE_TOLERANCE = np.radians(5.0)
 class Outcome:
     ok: bool
     reason: str = ""
-
-
-def _approach_axis(world: "World") -> np.ndarray:
-    return np.array(p.getMatrixFromQuaternion(world.tcp_pose()[1])).reshape(3, 3)[:, 2]
 
 
 def _guarded(run) -> Outcome:
@@ -103,7 +99,7 @@ def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory
         follow(world, trajectory.final, "descent", recorder=recorder)
         world.detach()
         set_fingers_dynamic(world, MAX_OPENING / 2, recorder)
-        move_straight(world, -_approach_axis(world), BACK, "retreat", recorder)
+        move_straight(world, -approach_axis(world.tcp_pose()), BACK, "retreat", recorder)
         world.settle()
         return None
     return _guarded(run)

@@ -83,11 +83,6 @@ def gripper_frames(p1: np.ndarray, p2: np.ndarray, angles: np.ndarray) -> np.nda
     return frames
 
 
-def gripper_frame(p1: np.ndarray, p2: np.ndarray, angle: float) -> np.ndarray:
-    """One gripper frame (see `gripper_frames`)."""
-    return gripper_frames(p1, p2, np.array([angle]))[0]
-
-
 def world_grasp_pose(world: "World", grasp: Grasp) -> Pose:
     """The gripper frame in the world for `grasp` at the object's current pose."""
     pos, orn = p.multiplyTransforms(*world.pose(grasp.object), *grasp.in_object)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Iterator, Optional, Sequence
 import numpy as np
 import pybullet as p
 
+from ..world.attachment import compose
 from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, MAX_CHECKS, cartesian_path, path_collision, plan_motion
 from .grasp import grasp_opening
 from .types import Contact, Grasp, Placement, Pose, Trajectory
@@ -25,12 +26,8 @@ PUSH_RANGE = (0.05, 0.25)  # metres of push past first contact
 BACK_OFF = 0.05           # metres a push starts behind first contact
 
 
-def compose(a: Pose, b: Pose) -> Pose:
-    pos, orn = p.multiplyTransforms(a[0], a[1], b[0], b[1])
-    return tuple(pos), tuple(orn)
-
-
-def _approach_axis(tcp: Pose) -> np.ndarray:
+def approach_axis(tcp: Pose) -> np.ndarray:
+    """The gripper frame's z axis (the approach direction) in the world."""
     return np.array(p.getMatrixFromQuaternion(tcp[1])).reshape(3, 3)[:, 2]
 
 
@@ -65,7 +62,7 @@ def grasp_motion(world: "World", obj: str, grasp: Grasp, rng: np.random.Generato
     tcp = compose(world.pose(obj), grasp.in_object)
     with world.saved():
         world.set_fingers(grasp_opening(grasp.width) / 2)
-        return _motion(world, tcp, _approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
+        return _motion(world, tcp, approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
 
 
 def place_motion(world: "World", placement: Placement, rng: np.random.Generator) -> Optional[Trajectory]:
