@@ -37,7 +37,7 @@ def check_samplers(loaded: LoadedDomain) -> None:
     """Every stream is implemented by a sampler the planner has."""
     if not loaded.domain.streams:
         return
-    from .planner.bindings import SAMPLERS  # loads the simulator: only for domains with streams
+    from .samplers.registry import GENERIC_SAMPLERS as SAMPLERS  # loads the simulator: only with streams
 
     for stream in loaded.domain.streams:
         name = stream.sampler or stream.name

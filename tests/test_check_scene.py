@@ -102,4 +102,5 @@ def test_stream_with_an_unknown_sampler_is_an_error(write_files, capsys):
     (path,) = write_files(**{"extra.pddl": fragment})
     assert run_check(capsys, path) == (
         2, [f"{path}:2:3: error: stream 'sample-grip' uses sampler 'grsp', which does not exist (did you mean "
-            "'grasp'?); known: contact, grasp, placement, push, trajectory"])
+            "'grasp'?); known: contact, free-motion, grasp, grasp-motion, held-motion, place-motion, "
+            "placement, push-motion"])

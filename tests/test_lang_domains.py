@@ -31,8 +31,11 @@ def test_basis_has_the_six_operators_with_continuous_parameters():
 
 def test_basis_streams_name_the_generic_samplers():
     domain = load_domain([BASIS]).domain
+    from pdsketch_mech.samplers.registry import GENERIC_SAMPLERS
     samplers = {s.sampler for s in domain.streams}
-    assert {"grasp", "placement", "contact", "trajectory", "push"} <= samplers
+    assert samplers == {"grasp", "placement", "contact", "free-motion", "grasp-motion", "place-motion",
+                        "held-motion", "push-motion"}
+    assert samplers <= set(GENERIC_SAMPLERS), "every stream's sampler is registered"
     grasp = next(s for s in domain.streams if s.name == "sample-grasp")
     assert [o.type for o in grasp.outputs] == ["grasp"]
     assert grasp.certified == n.Atom("valid-grasp", (n.Var("?x"), n.Var("?g")))

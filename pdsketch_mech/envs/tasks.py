@@ -26,7 +26,7 @@ SMALL_TABLE = ObjectSpec("table", Assets(("table/1",), ("table/1",)), xy=(0.6, 0
                          noise_xy=(0.0, 0.0), noise_yaw=0.0, role="a smaller table, top at z = 0, +y edge at y = 0.5")
 
 # The Hook tasks' light box beyond the arm's reach (the shipped problems/hook-use.pddl scene).
-OUT_OF_REACH_BOX = ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.95, 0.0), yaw=90.0, mass=0.2,
+OUT_OF_REACH_BOX = ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.9, 0.0), yaw=90.0, mass=0.2,
                               friction=0.6, scale=(0.9, 1.1), role="the box out of reach")
 
 # Small household objects that stay where they are put (no balls: they roll).

@@ -14,6 +14,7 @@ from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..samplers.interface import StepContext
 from ..symbolic.task import StripsTask
 from ..world.snapshot import Snapshot
 from ..world.world import World
@@ -34,6 +35,12 @@ class Step:
     expected: int                 # symbolic state the step must produce
     mechanism: Optional[str] = None
     certified: Tuple[Tuple[int, int], ...] = ()  # the last step of a mechanism: what it promised
+    index: int = 0                # position in its mechanism (0 for a basis step)
+    mechanism_args: Tuple[str, ...] = ()
+
+    def context(self) -> StepContext:
+        """What the step's samplers are told about it."""
+        return StepContext(self.name, self.args, self.mechanism, self.mechanism_args, self.index)
 
 
 @dataclass
@@ -80,8 +87,10 @@ class Refinement:
             step = self.steps[i]
             world.restore(self.snapshots[i])
             if self.generators[i] is None:
+                # A mechanism's later steps are told what its earlier steps drew.
+                parents = {k: v for values in self.values[i - step.index:i] for k, v in (values or {}).items()}
                 self.generators[i] = itertools.islice(
-                    self.sampler.samples(world, step.args, self.rng), TRIES_PER_VISIT)
+                    self.sampler.samples(world, step.context(), self.rng, parents), TRIES_PER_VISIT)
             values = next(self.generators[i], None)
             if values is None:  # this step is out of samples: revise the step before it
                 self.generators[i] = None
@@ -143,6 +152,8 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
             basis = task.operators[basis_id]
             state = task.successor(state, basis)
             last = k == len(expansion) - 1
-            steps.append(Step(basis.name, basis.args, state, op.name if basis_id != op_id else None,
-                              op.certified if last and op.steps else ()))
+            macro = basis_id != op_id
+            steps.append(Step(basis.name, basis.args, state, op.name if macro else None,
+                              op.certified if last and op.steps else (), k if macro else 0,
+                              tuple(a for a in op.args if not a.startswith("#")) if macro else ()))
     return steps

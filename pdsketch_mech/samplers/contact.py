@@ -5,15 +5,17 @@ The pusher O1 is the held object, or the bare gripper when nothing is held. A co
 point p2 on the target's side (outward normal n2 nearly perpendicular to the support normal
 n_s: we never push a target into its support) with a pose of the pusher `gap` away from p2
 along n2, facing it: the push direction is -n2 projected onto the support plane. A held
-tool's pose T puts one of its own surface points p1 there (T p1 = p2 + gap n2, T n1 = -n2),
-turned about n2 to keep the tool's current "up" as well as possible. A candidate is kept
-only if the arm reaches the contact pose and a pre-contact pose backed off along n2 without
-penetrating anything. Only shapes and poses are read, never names or categories.
+tool's pose T puts one of its own side points p1 there (T p1 = p2 + gap n2, T n1 facing n2),
+the tool held as it is now but turned about the support normal and lowered to slide just
+above the support: a straight tool held diagonally pulls with its tip, a hook with its
+crook. Proposals pass cheap tests (facing, the hand within reach, no penetration at the
+contact and backed off); verifying asks IK and the collision checker for the arm at the
+contact pose and at a pre-contact pose backed off along n2. Only shapes and poses are read,
+never names or categories.
 """
 from __future__ import annotations
 
-import time
-
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Iterator, Optional, Tuple
 
@@ -22,9 +24,11 @@ import pybullet as p
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from ..world.collision import CollisionChecker
+from ..world.collision import CollisionChecker, body_penetrates
 from ..world.robot import CLOSED
-from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
+from .geometry import body_mesh, matrix_pose, pose_matrix, rotation_between, sample_surface
+from .gripper import FINGER_HALF_WIDTH, FINGER_TIP, HAND_UNDERSIDE
+from .interface import Sampler, SampleRequest
 from .types import Contact
 
 if TYPE_CHECKING:
@@ -33,16 +37,15 @@ if TYPE_CHECKING:
 SIDE_COS = 0.2          # |n2 . n_s| below this: a side of the target
 FLARED_COS = 0.5        # ... or below this when no face qualifies (plates, bowls: rims at ~25 deg)
 UP_COS = 0.2            # tool points whose normal keeps the tool's "up" within this
-BACK = 0.05             # pre-contact: metres further back along n2
+BACK = 0.02             # pre-contact: metres further back along n2 (a pull starts beyond the target: every cm costs reach)
 PENETRATION = 1e-3      # deeper than this counts as penetrating (tool vs world)
 BATCH = 32              # target points drawn at a time
 TOOL_POOL = 2048        # tool surface points drawn once per call
-ANGLE_TRIES = 3         # rotations about n2 per pair: the best one, then perturbations
-ANGLE_SPREAD = 0.3      # radians, std of those perturbations
-# The closed Panda fingers in the gripper frame (measured from panda.urdf's finger meshes):
-FINGER_HALF = 0.0105    # half their thickness along the frame's x axis
-FINGER_TIP = 0.0072     # how far the fingertips reach beyond the frame origin along z
-HAND_BACK = 0.039       # the hand's underside, behind the frame origin along z
+YAWS = 16               # turns of a held tool about the support normal examined per point pair
+FACING_COS = 0.3        # the tool point's normal must face the target's by at least this
+SLIDE = 0.004           # metres between a held tool's underside and the target's support
+POSES_PER_POINT = 2     # tool poses kept per point pair (of those passing the cheap tests)
+PULL_BIAS = 3.0         # an out-of-reach target's pulls are up to 1 + PULL_BIAS times likelier than pushes away
 IK_RESTARTS = 10        # fewer than IK's default: a failure costs ~70 ms at 30, most are out of reach
 
 
@@ -80,16 +83,6 @@ def support_frame(world: "World", target: str, support: str) -> Tuple[np.ndarray
     return np.array([0.0, 0.0, 1.0]), np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, world.aabb(support)[1][2]])
 
 
-def _penetrates(world: "World", name: str) -> bool:
-    """Does body `name`, where it is now, penetrate another body (the robot aside)?"""
-    body_id = world.bodies[name].id
-    for other in world.bodies.values():
-        if other.id != body_id and any(c[8] < -PENETRATION for c in p.getClosestPoints(
-                body_id, other.id, 0.0, physicsClientId=world.client)):
-            return True
-    return False
-
-
 def _arm_reaches(world: "World", gripper: np.ndarray, back: np.ndarray, rng: np.random.Generator,
                  checker: CollisionChecker) -> bool:
     """IK for the gripper frame `gripper` (4x4) and for it moved by `back`, both free of
@@ -106,91 +99,141 @@ def _arm_reaches(world: "World", gripper: np.ndarray, back: np.ndarray, rng: np.
     return q_pre is not None and not checker.collides(q_pre)
 
 
-def _rotation_between(a: np.ndarray, b: np.ndarray) -> Rotation:
-    """The smallest rotation taking unit vector a to unit vector b."""
-    axis = np.cross(a, b)
-    sin, cos = np.linalg.norm(axis), float(np.dot(a, b))
-    if sin < 1e-9:
-        if cos > 0:
-            return Rotation.identity()
-        axis = np.cross(a, np.eye(3)[int(np.argmin(np.abs(a)))])  # any axis perpendicular to a
-        return Rotation.from_rotvec(np.pi * axis / np.linalg.norm(axis))
-    return Rotation.from_rotvec(axis / sin * np.arctan2(sin, cos))
+@dataclass(frozen=True, eq=False)
+class ContactCandidate:
+    """A proposed contact: pusher poses to try (4x4 world; a held tool's pose, or the
+    gripper frame for each way round of the hand's yaw) and the gripper frames they need."""
+
+    pushers: Tuple[np.ndarray, ...]
+    grippers: Tuple[np.ndarray, ...]
+    back: np.ndarray            # the pre-contact offset (world)
+    point: np.ndarray           # on the target
+    direction: np.ndarray       # the push direction
+    normal: np.ndarray          # the target's outward normal at `point`
 
 
-def _gripper_contact(world: "World", p2: np.ndarray, d: np.ndarray, n_s: np.ndarray, level: float,
-                     top: float, gap: float, rng: np.random.Generator) -> Optional[np.ndarray]:
-    """The gripper frame (4x4) pushing at p2 with closed fingers, or None. Heights are along
-    n_s above the support surface (`level`); `top` is the target's top."""
+def _gripper_frames(p2: np.ndarray, d: np.ndarray, n_s: np.ndarray, level: float, top: float,
+                    gap: float, rng: np.random.Generator) -> Tuple[np.ndarray, ...]:
+    """Gripper frames (4x4, both ways round in random order) pushing at p2 with closed
+    fingers, or () when the fingers would miss p2. Heights are along n_s above the support
+    surface (`level`); `top` is the target's top."""
     h2 = float(np.dot(p2, n_s)) - level
+    reach = FINGER_TIP + HAND_UNDERSIDE  # from the fingertips to the hand's underside
     # Fingertips hit the side between 1 cm above the support and 5 mm below the target's top,
     # high enough that the hand (wider than the fingers along d) passes over the target.
-    lo, hi = max(0.01, top - (FINGER_TIP + HAND_BACK) + 0.005), top - 0.005
+    lo, hi = max(0.01, top - reach + 0.005), top - 0.005
     if hi < lo:  # a flat target: as high as its top allows, at least halfway up
         lo = hi = max(top / 2, hi)
     tip = float(np.clip(h2 - 0.01, lo, hi))
-    if not tip - 0.002 <= h2 <= tip + FINGER_TIP + HAND_BACK - 0.002:
-        return None  # the fingers would not touch the target at p2
-    position = p2 - d * (gap + FINGER_HALF) + n_s * (tip + FINGER_TIP - h2)
+    if not tip - 0.002 <= h2 <= tip + reach - 0.002:
+        return ()  # the fingers would not touch the target at p2
+    position = p2 - d * (gap + FINGER_HALF_WIDTH) + n_s * (tip + FINGER_TIP - h2)
     z = -n_s
-    checker = CollisionChecker(world)
-    back = -d * BACK
-    with world.saved():
-        world.set_fingers(CLOSED)
-        for sign in rng.permutation([1.0, -1.0]):  # the hand's yaw either way round
-            x = sign * d
-            frame = np.eye(4)
-            frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-            frame[:3, 3] = position
-            if _arm_reaches(world, frame, back, rng, checker):
-                return frame
-    return None
+    frames = []
+    for sign in rng.permutation([1.0, -1.0]):
+        x = sign * d
+        frame = np.eye(4)
+        frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+        frame[:3, 3] = position
+        frames.append(frame)
+    return tuple(frames)
 
 
-def _tool_contact(world: "World", tool: str, p1: np.ndarray, n1: np.ndarray, p2: np.ndarray, n2: np.ndarray,
-                  up: np.ndarray, tcp_in_tool: np.ndarray, gap: float, rng: np.random.Generator
-                  ) -> Optional[np.ndarray]:
-    """The tool pose (4x4) with T p1 = p2 + gap n2 and T n1 = -n2, or None."""
-    r0 = _rotation_between(n1, -n2)
-    # Turn about n2 so that the tool's up (tool frame) maps as close to world z as possible.
-    v = r0.apply(up)
-    v_perp, z_perp = v - np.dot(v, n2) * n2, np.array([0.0, 0.0, 1.0]) - n2[2] * n2
-    best = float(np.arctan2(np.dot(n2, np.cross(v_perp, z_perp)), np.dot(v_perp, z_perp)))
-    angles = [best] + list(best + rng.normal(0.0, ANGLE_SPREAD, ANGLE_TRIES - 1))
-    checker = CollisionChecker(world)
-    back = n2 * BACK
+def _tool_poses(world: "World", tool: str, tool_vertices: np.ndarray, p1: np.ndarray, n1: np.ndarray,
+                p2: np.ndarray, n2: np.ndarray, n_s: np.ndarray, level: float, gap: float,
+                tcp_in_tool: np.ndarray, rng: np.random.Generator) -> Tuple[np.ndarray, ...]:
+    """Held-tool poses (4x4) that put tool point p1 `gap` in front of target point p2, the
+    tool turned about the support normal n_s from how it is held now (its up is kept) and
+    lowered to SLIDE above the support. Of YAWS turns (random offset), those pass where n1
+    faces the target, the hand is within reach, and the tool penetrates nothing at the
+    contact nor backed off: a straight tool held diagonally pulls with its tip, a crook
+    with its inner face, whatever the object (no face of the tool must match the target's)."""
+    now = pose_matrix(world.pose(tool))[:3, :3]
+    yaws = rng.uniform(0.0, 2 * np.pi) + np.arange(YAWS) * 2 * np.pi / YAWS
+    turns = Rotation.from_rotvec(yaws[:, None] * n_s).as_matrix() @ now          # (k, 3, 3)
+    facing = (turns @ n1) @ n2
+    lowest = float(np.min((tool_vertices @ now.T) @ n_s))  # a turn about n_s keeps it
+    poses = np.tile(np.eye(4), (YAWS, 1, 1))
+    poses[:, :3, :3] = turns
+    offset = p2 + gap * n2 - turns @ p1                                           # (k, 3)
+    # Slide the contact point along n_s so the tool's underside is SLIDE above the support.
+    offset += ((level + SLIDE - lowest) - offset @ n_s)[:, None] * n_s
+    poses[:, :3, 3] = offset
+    keep = [k for k in rng.permutation(YAWS) if facing[k] < -FACING_COS and world.within_reach(poses[k] @ tcp_in_tool)]
+    found = []
     with world.saved():
-        for angle in angles:
-            pose = np.eye(4)
-            pose[:3, :3] = (Rotation.from_rotvec(angle * n2) * r0).as_matrix()
-            pose[:3, 3] = p2 + gap * n2 - pose[:3, :3] @ p1
-            backed = pose.copy()
-            backed[:3, 3] += back
-            world.set_pose(tool, matrix_pose(pose))
-            if _penetrates(world, tool):
+        for k in keep:
+            backed = poses[k].copy()
+            backed[:3, 3] += n2 * BACK
+            world.set_pose(tool, matrix_pose(poses[k]))
+            if body_penetrates(world, tool, PENETRATION):
                 continue
             world.set_pose(tool, matrix_pose(backed))
-            if _penetrates(world, tool):
-                continue
-            if _arm_reaches(world, pose @ tcp_in_tool, back, rng, checker):
-                return pose
-    return None
+            if not body_penetrates(world, tool, PENETRATION):
+                found.append(poses[k])
+                if len(found) == POSES_PER_POINT:
+                    break
+    return tuple(found)
 
 
-def sample_contacts(world: "World", target: str, support: str, rng: np.random.Generator,
-                    max_attempts: int = 300, gap: float = 0.01,
-                    deadline: float = float("inf")) -> Iterator[Contact]:
-    """Reachable, collision-free contacts of the held object (or the bare gripper) with the
-    side of `target`, which rests on `support`; stops after `max_attempts` candidates (one
-    target point each, with a tool point when a tool is held) or at `deadline`
-    (time.perf_counter()). The world is left as found."""
+def _toward_robot(world: "World", target: str) -> Optional[np.ndarray]:
+    """The horizontal unit vector from `target` towards the robot's shoulder if the hand cannot
+    reach the target from above (else None): an object out of reach is more often pulled
+    than pushed further away (PULL_BIAS), since only pulls can bring it within reach."""
+    centre = np.asarray(world.pose(target)[0])
+    above = np.eye(4)
+    above[:3, :3] = np.diag([1.0, -1.0, -1.0])  # the gripper pointing down
+    above[:3, 3] = centre
+    if world.within_reach(above):
+        return None
+    toward = world.shoulder - centre
+    toward[2] = 0.0
+    return toward / max(np.linalg.norm(toward), 1e-9)
+
+
+class ContactSampler(Sampler[ContactCandidate]):
+    """C(O1, O2, T_o2, O_s, T_s): the stream's last two inputs are the target and its
+    support; the pusher is what the hand holds (the bare gripper when it holds nothing)."""
+
+    budget = 60
+    gap = 0.01   # metres between the pusher and the target at first contact
+
+    def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
+                budget: int) -> Iterator[ContactCandidate]:
+        target, support = request.objects()[-2:]
+        return propose_contacts(world, target, support, rng, budget, self.gap)
+
+    def verify(self, world: "World", request: SampleRequest, candidate: ContactCandidate,
+               rng: np.random.Generator) -> Optional[Contact]:
+        tool = world.attachment.name if world.attachment is not None else None
+        checker = CollisionChecker(world)
+        with world.saved():
+            if tool is None:
+                world.set_fingers(CLOSED)
+            for pusher, gripper in zip(candidate.pushers, candidate.grippers):
+                if _arm_reaches(world, gripper, candidate.back, rng, checker):
+                    target, support = request.objects()[-2:]
+                    return Contact(tool, target, support, matrix_pose(pusher),
+                                   tuple(float(v) for v in candidate.direction),
+                                   tuple(float(v) for v in candidate.point), tuple(float(v) for v in candidate.normal))
+        return None
+
+
+def propose_contacts(world: "World", target: str, support: str, rng: np.random.Generator, max_points: int,
+                     gap: float = 0.01) -> Iterator[ContactCandidate]:
+    """Contacts of the held object (or the bare gripper) with the side of `target`, which
+    rests on `support`, from geometry alone (no IK): examines at most `max_points` target
+    points (one tool point each when a tool is held)."""
     tool = world.attachment.name if world.attachment is not None else None
     target_mesh = body_mesh(world, target)
     if tool is not None:
-        tool_points, tool_normals = surface_points(body_mesh(world, tool), TOOL_POOL, rng)
+        tool_mesh = body_mesh(world, tool)
+        tool_points, tool_normals = surface_points(tool_mesh, TOOL_POOL, rng)
+        tool_vertices = np.asarray(tool_mesh.vertices)
         tcp_in_tool = pose_matrix(world.held_tcp_in_object())
-    attempts = 0
-    while attempts < max_attempts:
+    toward = _toward_robot(world, target)
+    examined = 0
+    while examined < max_points:
         # Re-read the scene per batch: the caller may move things between yields.
         n_s, support_point = support_frame(world, target, support)
         level = float(np.dot(support_point, n_s))
@@ -201,28 +244,41 @@ def sample_contacts(world: "World", target: str, support: str, rng: np.random.Ge
         side_cos = SIDE_COS if np.any(tilt < SIDE_COS) else FLARED_COS
         if tool is not None:
             up = pose_matrix(world.pose(tool))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
-        count = min(BATCH, max_attempts - attempts)
+        count = min(BATCH, max_points - examined)
+        examined += count
         local_points, local_normals = surface_points(target_mesh, count, rng)
         points = local_points @ target_pose[:3, :3].T + target_pose[:3, 3]
         normals = local_normals @ target_pose[:3, :3].T
         for p2, n2 in zip(points, normals):
-            attempts += 1
-            if time.perf_counter() > deadline:
-                return
             if abs(float(np.dot(n2, n_s))) >= side_cos:
                 continue
             d = -(n2 - np.dot(n2, n_s) * n_s)
             d /= np.linalg.norm(d)
+            if toward is not None and rng.random() * (1 + PULL_BIAS) > 1 + PULL_BIAS * max(0.0, float(d @ toward)):
+                continue
             if tool is None:
-                frame = _gripper_contact(world, p2, d, n_s, level, top, gap, rng)
-            else:
-                # Tool faces that can meet n2 while the tool keeps its up: n1 . up = -n2 . z.
-                usable = np.flatnonzero(np.abs(tool_normals @ up + n2[2]) < UP_COS)
-                if not len(usable):
-                    continue
-                i = int(rng.choice(usable))
-                frame = _tool_contact(world, tool, tool_points[i], tool_normals[i], p2, n2, up,
-                                      tcp_in_tool, gap, rng)
-            if frame is not None:
-                yield Contact(tool, target, support, matrix_pose(frame), tuple(float(v) for v in d),
-                              tuple(float(v) for v in p2), tuple(float(v) for v in n2))
+                frames = _gripper_frames(p2, d, n_s, level, top, gap, rng)
+                if frames:
+                    yield ContactCandidate(frames, frames, -d * BACK, p2, d, n2)
+                continue
+            # A tool point on a side of the tool as it is held (its up is kept).
+            usable = np.flatnonzero(np.abs(tool_normals @ up) < UP_COS)
+            if not len(usable):
+                continue
+            i = int(rng.choice(usable))
+            poses = _tool_poses(world, tool, tool_vertices, tool_points[i], tool_normals[i], p2, n2, n_s, level,
+                                gap, tcp_in_tool, rng)
+            if poses:
+                yield ContactCandidate(poses, tuple(pose @ tcp_in_tool for pose in poses), n2 * BACK, p2, d, n2)
+
+
+def sample_contacts(world: "World", target: str, support: str, rng: np.random.Generator,
+                    max_attempts: int = 300, gap: float = 0.01,
+                    deadline: float = float("inf")) -> Iterator[Contact]:
+    """Reachable, collision-free contacts of the held object (or the bare gripper) with the
+    side of `target`, which rests on `support`; stops after `max_attempts` proposals or at
+    `deadline` (time.perf_counter()). The world is left as found."""
+    sampler = ContactSampler()
+    sampler.gap = gap
+    request = SampleRequest("sample-contact", (target, support), ("?y", "?s"), deadline=deadline)
+    return sampler.draw(world, request, rng, budget=max_attempts)

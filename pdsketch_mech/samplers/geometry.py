@@ -17,7 +17,7 @@ import trimesh
 if TYPE_CHECKING:
     from ..world.world import World
 
-Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]
+from .types import Pose
 
 
 def pose_matrix(pose: Pose) -> np.ndarray:
@@ -29,9 +29,24 @@ def pose_matrix(pose: Pose) -> np.ndarray:
 
 
 def matrix_pose(matrix: np.ndarray) -> Pose:
+    """The pose of a 4x4 homogeneous transform."""
     from scipy.spatial.transform import Rotation
     quat = Rotation.from_matrix(matrix[:3, :3]).as_quat()
     return tuple(float(v) for v in matrix[:3, 3]), tuple(float(v) for v in quat)
+
+
+def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The smallest rotation (3x3 matrix) taking unit vector `a` onto unit vector `b`;
+    for opposite vectors, half a turn about an axis perpendicular to `a`."""
+    from scipy.spatial.transform import Rotation
+    axis = np.cross(a, b)
+    sin, cos = np.linalg.norm(axis), float(np.dot(a, b))
+    if sin < 1e-9:
+        if cos > 0:
+            return np.eye(3)
+        axis = np.cross(a, np.eye(3)[int(np.argmin(np.abs(a)))])  # the axis least parallel to a
+        return Rotation.from_rotvec(np.pi * axis / np.linalg.norm(axis)).as_matrix()
+    return Rotation.from_rotvec(axis / sin * np.arctan2(sin, cos)).as_matrix()
 
 
 @lru_cache(maxsize=256)

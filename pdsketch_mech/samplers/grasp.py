@@ -12,8 +12,6 @@ none in 600 samples.
 """
 from __future__ import annotations
 
-import time
-
 from functools import lru_cache
 from typing import TYPE_CHECKING, Iterator, List, Optional, Tuple
 
@@ -23,8 +21,10 @@ import trimesh
 
 from ..world.collision import CollisionChecker
 from ..world.robot import MAX_OPENING
-from .geometry import Pose, body_mesh, matrix_pose, pose_matrix, sample_surface
-from .types import Grasp
+from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
+from .gripper import FINGER_HALF_WIDTH, FINGER_SPAN, FINGER_THICKNESS, HAND_BOX
+from .interface import Sampler, SampleRequest
+from .types import Grasp, Pose
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -116,18 +116,12 @@ def grasp_configurations(world: "World", grasp: Grasp, rng: np.random.Generator,
     return q_pre, q
 
 
-# The gripper as boxes in its frame (measured from the Panda's collision shapes): the hand
-# behind the fingers, and each finger (x across it, y along the closing axis outward from
-# its pad, z along the approach: the tips reach 7.2 mm past the frame origin).
-HAND_BOX = ((-0.032, 0.032), (-0.10, 0.10), (-0.13, -0.045))
-FINGER_HALF_WIDTH = 0.0105
-FINGER_THICKNESS = 0.01
-FINGER_SPAN = (-0.045, 0.0072)
 CLOUD_POINTS = 1500     # surface points of an object checked against the gripper's boxes
 # Fingertips must stay this far above the surface an object rests on: a real hand is not
 # calibrated to the millimetre, so pinching the top 1 mm of a caliper lying flat does not
 # count as a grasp (it must be pushed over an edge first, as in the paper's Edge task).
 SUPPORT_CLEARANCE = 0.005
+MIN_BITE = 0.003        # metres the fingertips reach past a pinched pair, at least
 
 
 def _grid(box, per_metre: float = 25.0) -> np.ndarray:
@@ -185,6 +179,23 @@ def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
     return np.hstack([points, np.ones((len(points), 1))])
 
 
+def _backed_off(frames: np.ndarray, placed: np.ndarray, bottom: float, opening: float) -> np.ndarray:
+    """For the downward approaches among `frames` (object frame) whose fingertips would come
+    closer than SUPPORT_CLEARANCE to the object's bottom, the frame moved back along the
+    approach just far enough, if the pair stays MIN_BITE behind the fingertips: the pads
+    then close on the pair nearer their tips, and a handle 12 mm tall lying flat is pinched
+    anywhere in its top 4 mm instead of only at its top edge. (The unmoved frames stay
+    candidates: an overhang's pinch needs the tips below the object's bottom.)"""
+    in_world = placed @ frames
+    tips = np.einsum("kij,nj->kni", in_world, _fingertip_points(opening))[..., 2].min(axis=1)
+    down = -in_world[:, 2, 2]
+    back = (bottom + SUPPORT_CLEARANCE + 0.001 - tips) / np.maximum(down, 1e-9)
+    chosen = (down > 0.3) & (back > 0) & (back <= FINGER_SPAN[1] - MIN_BITE)
+    moved = frames[chosen].copy()
+    moved[:, :3, 3] -= back[chosen, None] * moved[:, :3, 2]
+    return moved
+
+
 def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np.ndarray, p1: np.ndarray,
                      p2: np.ndarray, bottom: float, rng: np.random.Generator) -> List[np.ndarray]:
     """Gripper frames (object frame) for the pair at ANGLES approach angles (random offset)
@@ -196,6 +207,7 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
     hand would hang into the table is dropped here, sparing ~0.1 s of failing IK."""
     opening = grasp_opening(float(np.linalg.norm(p2 - p1)))
     frames = gripper_frames(p1, p2, rng.uniform(-np.pi, np.pi) + np.arange(ANGLES) * 2 * np.pi / ANGLES)
+    frames = np.concatenate([frames, _backed_off(frames, placed, bottom, opening)])
     in_world = placed @ frames
     keep = [i for i in range(len(frames)) if in_world[i, 2, 2] <= MAX_UP and world.within_reach(in_world[i])]
     if not keep:
@@ -234,13 +246,24 @@ def verify_grasp(world: "World", grasp: Grasp, rng: np.random.Generator) -> bool
     return grasp_configurations(world, grasp, rng) is not None
 
 
+class GraspSampler(Sampler[Grasp]):
+    """The stream's first input is the object to grasp; proposals have already passed the
+    cheap geometric tests, so fewer are verified per visit than for other samplers."""
+
+    budget = 60
+
+    def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
+                budget: int) -> Iterator[Grasp]:
+        return propose_grasps(world, request.objects()[0], rng, POINTS_PER_ATTEMPT * budget)
+
+    def verify(self, world: "World", request: SampleRequest, grasp: Grasp, rng: np.random.Generator) -> Optional[Grasp]:
+        return grasp if verify_grasp(world, grasp, rng) else None
+
+
 def sample_grasps(world: "World", obj: str, rng: np.random.Generator, max_attempts: int = 300,
                   deadline: float = float("inf")) -> Iterator[Grasp]:
     """Reachable, collision-free antipodal grasps of `obj` at its current pose; stops after
     `max_attempts` proposals (or POINTS_PER_ATTEMPT times as many surface points) or at
     `deadline` (time.perf_counter())."""
-    for attempt, grasp in enumerate(propose_grasps(world, obj, rng, POINTS_PER_ATTEMPT * max_attempts)):
-        if attempt >= max_attempts or time.perf_counter() > deadline:
-            return
-        if verify_grasp(world, grasp, rng):
-            yield grasp
+    request = SampleRequest("sample-grasp", (obj,), ("?x",), deadline=deadline)
+    return GraspSampler().draw(world, request, rng, budget=max_attempts)

@@ -8,8 +8,6 @@ holding it there (and at a pre-place pose above) must be reachable and collision
 """
 from __future__ import annotations
 
-import time
-
 from functools import lru_cache
 from typing import TYPE_CHECKING, Iterator, List, Optional, Tuple
 
@@ -18,11 +16,11 @@ import pybullet as p
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from ..world.collision import PENETRATION, CollisionChecker
-from .geometry import Pose, matrix_pose, pose_matrix, sample_surface
-from .geometry import solid_mesh
+from ..world.collision import PENETRATION, CollisionChecker, body_penetrates
+from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
 from .grasp import IK_RESTARTS
-from .types import Placement
+from .interface import Sampler, SampleRequest
+from .types import Placement, Pose
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -55,19 +53,6 @@ def resting_facets(urdf: str, scale: float, com: Tuple[float, float, float]) -> 
     return facets, np.asarray(hull.vertices)
 
 
-def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """A rotation matrix taking unit vector `a` onto unit vector `b`."""
-    axis = np.cross(a, b)
-    sin, cos = np.linalg.norm(axis), float(np.dot(a, b))
-    if sin < 1e-9:
-        if cos > 0:
-            return np.eye(3)
-        other = np.eye(3)[int(np.argmin(np.abs(a)))]  # opposite: half a turn about any perpendicular
-        axis = np.cross(a, other)
-        return Rotation.from_rotvec(np.pi * axis / np.linalg.norm(axis)).as_matrix()
-    return Rotation.from_rotvec(axis / sin * np.arctan2(sin, cos)).as_matrix()
-
-
 def up_surface(world: "World", support: str, up_cos: float) -> Optional[trimesh.Trimesh]:
     """The support's faces (world frame) whose normal is within acos(up_cos) of +z."""
     body = world.bodies[support]
@@ -81,7 +66,7 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
                 support_normal: np.ndarray, twist: float) -> np.ndarray:
     """4x4 object pose with its facet (`normal`, `centre`) against the plane through `point`
     with normal `support_normal`, `GAP` above it, twisted by `twist` about that normal."""
-    rotation = Rotation.from_rotvec(twist * support_normal).as_matrix() @ align(normal, -support_normal)
+    rotation = Rotation.from_rotvec(twist * support_normal).as_matrix() @ rotation_between(normal, -support_normal)
     lowest = float(np.min((vertices - centre) @ rotation.T @ support_normal))  # ~0: the facet is on the hull
     matrix = np.eye(4)
     matrix[:3, :3] = rotation
@@ -90,16 +75,9 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
 
 
 def sinks(world: "World", obj: str, pose: Pose) -> bool:
-    """Would `obj` at `pose` penetrate any body (the robot holding it aside)?"""
+    """Would `obj` at `pose` penetrate any body (the robot holding it aside)? Leaves it there."""
     world.set_pose(obj, pose)
-    obj_id = world.bodies[obj].id
-    for name, body in world.bodies.items():
-        if name == obj:
-            continue
-        points = p.getClosestPoints(obj_id, body.id, 0.0, physicsClientId=world.client)
-        if any(c[8] < -SINK for c in points):
-            return True
-    return False
+    return body_penetrates(world, obj, SINK)
 
 
 def placement_configurations(world: "World", placement: Placement, rng: np.random.Generator
@@ -131,11 +109,24 @@ def placement_configurations(world: "World", placement: Placement, rng: np.rando
     return q_pre, q
 
 
-def sample_placements(world: "World", obj: str, support: str, rng: np.random.Generator,
-                      max_attempts: int = 300, up_cos: float = 0.85,
-                      deadline: float = float("inf")) -> Iterator[Placement]:
-    """Collision-free, reachable placements of the held `obj` on `support`'s upward faces;
-    stops after `max_attempts` candidates or at `deadline` (time.perf_counter())."""
+class PlacementSampler(Sampler[Placement]):
+    """P(O1, O2, T_o2): the stream's inputs are the held object and the support. Proposals
+    do not sink into anything; verifying asks IK and the collision checker."""
+
+    def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
+                budget: int) -> Iterator[Placement]:
+        obj, support = request.objects()[:2]
+        return propose_placements(world, obj, support, rng, budget)
+
+    def verify(self, world: "World", request: SampleRequest, candidate: Placement,
+               rng: np.random.Generator) -> Optional[Placement]:
+        return candidate if placement_configurations(world, candidate, rng) is not None else None
+
+
+def propose_placements(world: "World", obj: str, support: str, rng: np.random.Generator, max_draws: int,
+                       up_cos: float = 0.85) -> Iterator[Placement]:
+    """Poses of the held `obj` resting on `support`'s upward faces that sink into nothing
+    (no IK); examines at most `max_draws` (surface point, facet, twist) draws."""
     if world.attachment is None or world.attachment.name != obj:
         raise ValueError(f"placing '{obj}' requires holding it")
     body = world.bodies[obj]
@@ -145,9 +136,7 @@ def sample_placements(world: "World", obj: str, support: str, rng: np.random.Gen
     weights = np.array([f[2] for f in facets])
     weights /= weights.sum()
     surface, surface_at = None, None
-    for _ in range(max_attempts):
-        if time.perf_counter() > deadline:
-            return
+    for _ in range(max_draws):
         if world.pose(support) != surface_at:  # the caller may move things between yields
             surface_at = world.pose(support)
             surface = up_surface(world, support, up_cos)
@@ -158,10 +147,17 @@ def sample_placements(world: "World", obj: str, support: str, rng: np.random.Gen
         normal, centre, _ = facets[int(rng.choice(len(facets), p=weights))]
         matrix = object_pose(normal, centre, vertices, point, support_normal, rng.uniform(-np.pi, np.pi))
         candidate = Placement(obj, support, matrix_pose(matrix), tuple(float(v) for v in support_normal))
-        # Cheap, before any IK, and the only check of the object against the support itself
-        # (a point on a bowl's floor by its wall would otherwise put the object in the wall).
+        # The only check of the object against the support itself (a point on a bowl's floor
+        # by its wall would otherwise put the object in the wall).
         with world.saved():
             if sinks(world, obj, candidate.pose):
                 continue
-        if placement_configurations(world, candidate, rng) is not None:
-            yield candidate
+        yield candidate
+
+
+def sample_placements(world: "World", obj: str, support: str, rng: np.random.Generator,
+                      max_attempts: int = 300, deadline: float = float("inf")) -> Iterator[Placement]:
+    """Collision-free, reachable placements of the held `obj` on `support`'s upward faces;
+    stops after `max_attempts` proposals or at `deadline` (time.perf_counter())."""
+    request = SampleRequest("sample-placement", (obj, support), ("?x", "?s"), deadline=deadline)
+    return PlacementSampler().draw(world, request, rng, budget=max_attempts)

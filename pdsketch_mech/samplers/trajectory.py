@@ -16,6 +16,7 @@ import pybullet as p
 from ..world.attachment import compose
 from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, MAX_CHECKS, cartesian_path, path_collision, plan_motion
 from .grasp import grasp_opening
+from .interface import Sampler, SampleRequest
 from .types import Contact, Grasp, Placement, Pose, Trajectory
 
 if TYPE_CHECKING:
@@ -23,7 +24,7 @@ if TYPE_CHECKING:
 
 PRE_DISTANCE = 0.08       # metres between a pre-pose and its target
 PUSH_RANGE = (0.05, 0.25)  # metres of push past first contact
-BACK_OFF = 0.05           # metres a push starts behind first contact
+BACK_OFF = 0.02           # metres a push starts behind first contact (as the contact sampler checked)
 
 
 def approach_axis(tcp: Pose) -> np.ndarray:
@@ -72,30 +73,77 @@ def place_motion(world: "World", placement: Placement, rng: np.random.Generator)
     return _motion(world, tcp, down, PRE_DISTANCE, rng, "place")
 
 
-def push_motion(world: "World", contact: Contact, rng: np.random.Generator) -> Optional[Trajectory]:
-    """To just behind first contact, then along the push direction by d ~ U[0.05, 0.25] m."""
+def push_motion(world: "World", contact: Contact, rng: np.random.Generator,
+                distance: Optional[float] = None) -> Optional[Trajectory]:
+    """To just behind first contact, then along the push direction by `distance` past
+    first contact (default: d ~ U[0.05, 0.25] m)."""
     tcp = contact.pusher_pose if contact.pusher is None else compose(contact.pusher_pose, world.held_tcp_in_object())
-    distance = float(rng.uniform(*PUSH_RANGE))
+    if distance is None:
+        distance = float(rng.uniform(*PUSH_RANGE))
     return _motion(world, tcp, contact.direction, BACK_OFF, rng, "push", push_distance=distance)
 
 
 def free_motion(world: "World", rng: np.random.Generator, kind: str = "free",
                 max_attempts: int = 20) -> Optional[Trajectory]:
     """To a random collision-free configuration with the gripper above the table."""
-    down = tuple(p.getQuaternionFromEuler((np.pi, 0.0, float(rng.uniform(-np.pi, np.pi)))))
-    for _ in range(max_attempts):
-        target = (float(rng.uniform(0.3, 0.6)), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(0.15, 0.35)))
-        q = world.kinematics.ik(target, down, rng, seed=world.arm())
+    sampler = FreeMotionSampler(kind)
+    return next(sampler.draw(world, SampleRequest(f"plan-{kind}-motion", (), ()), rng, budget=max_attempts), None)
+
+
+class GraspMotionSampler(Sampler[Grasp]):
+    """The motion to a grasp (stream inputs: the object and the grasp); one plan per grasp."""
+
+    budget = 1
+
+    def propose(self, world, request, rng, budget) -> Iterator[Grasp]:
+        yield request.values()[0]
+
+    def verify(self, world, request, grasp, rng) -> Optional[Trajectory]:
+        return grasp_motion(world, request.objects()[0], grasp, rng)
+
+
+class PlaceMotionSampler(Sampler[Placement]):
+    """The motion to a placement (stream inputs end with the placement); one plan each."""
+
+    budget = 1
+
+    def propose(self, world, request, rng, budget) -> Iterator[Placement]:
+        yield request.values()[0]
+
+    def verify(self, world, request, placement, rng) -> Optional[Trajectory]:
+        return place_motion(world, placement, rng)
+
+
+class PushMotionSampler(Sampler[float]):
+    """A push from a contact (the stream's input): proposes how far past first contact."""
+
+    budget = 1
+
+    def propose(self, world, request, rng, budget) -> Iterator[float]:
+        for _ in range(budget):
+            yield float(rng.uniform(*PUSH_RANGE))
+
+    def verify(self, world, request, distance, rng) -> Optional[Trajectory]:
+        return push_motion(world, request.values()[0], rng, distance)
+
+
+class FreeMotionSampler(Sampler[Pose]):
+    """A move of the arm (empty, or holding what it holds) to a random pose with the
+    gripper pointing down above the table: proposes the pose, verifies by IK and RRT."""
+
+    budget = 20
+
+    def __init__(self, kind: str = "free"):
+        self.kind = kind
+
+    def propose(self, world, request, rng, budget) -> Iterator[Pose]:
+        for _ in range(budget):
+            down = tuple(p.getQuaternionFromEuler((np.pi, 0.0, float(rng.uniform(-np.pi, np.pi)))))
+            yield (float(rng.uniform(0.3, 0.6)), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(0.15, 0.35))), down
+
+    def verify(self, world, request, target, rng) -> Optional[Trajectory]:
+        q = world.kinematics.ik(target[0], target[1], rng, seed=world.arm())
         if q is None:
-            continue
+            return None
         result = plan_motion(world, world.arm(), q, max_checks=MAX_CHECKS // 2, seed=int(rng.integers(1 << 30)))
-        if result.path is not None:
-            return Trajectory(kind, result.path)
-    return None
-
-
-def sample_free_motions(world: "World", rng: np.random.Generator, kind: str = "free") -> Iterator[Trajectory]:
-    for _ in range(5):
-        motion = free_motion(world, rng, kind)
-        if motion is not None:
-            yield motion
+        return Trajectory(self.kind, result.path) if result.path is not None else None

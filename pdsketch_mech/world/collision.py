@@ -65,3 +65,15 @@ class CollisionChecker:
                     hit.add(names.get(contact[2], str(contact[2])))
         hit.discard(world.attachment.name if world.attachment else None)
         return hit
+
+
+def body_penetrates(world: "World", name: str, depth: float = 1e-3) -> bool:
+    """Does body `name`, where it is now, penetrate another body (not the robot) by more
+    than `depth`? A static query: nothing moves. Samplers use it for candidate poses of
+    an object (a tool at a contact, an object at a placement) before any IK."""
+    body_id = world.bodies[name].id
+    for other in world.bodies.values():
+        if other.id != body_id and any(c[8] < -depth for c in p.getClosestPoints(
+                body_id, other.id, 0.0, physicsClientId=world.client)):
+            return True
+    return False

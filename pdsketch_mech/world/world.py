@@ -67,7 +67,7 @@ class World:
         self.finger_target = MAX_OPENING / 2
         self.hand_com = hand_inertial(self.client, self.robot)
         # The base is bolted down: where the shoulder is never changes (within_reach's hot path).
-        self._shoulder = np.array(compose(robot_base, ((0, 0, SHOULDER), (0, 0, 0, 1)))[0])
+        self.shoulder = np.array(compose(robot_base, ((0, 0, SHOULDER), (0, 0, 0, 1)))[0])  # the arm's first pivot
         self._colliders: Optional[Tuple[Collider, ...]] = None
         self.set_arm(HOME)
         self.set_fingers(MAX_OPENING / 2)
@@ -188,7 +188,7 @@ class World:
         """A cheap necessary condition for IK of a gripper-frame pose (4x4 matrix): the
         flange, WRIST behind it, lies within REACH of the shoulder. Spares the solver's
         ~0.1 s of failing restarts for poses far out of reach."""
-        return float(np.linalg.norm(tcp[:3, 3] - WRIST * tcp[:3, 2] - self._shoulder)) < REACH
+        return float(np.linalg.norm(tcp[:3, 3] - WRIST * tcp[:3, 2] - self.shoulder)) < REACH
 
     def held_tcp_in_object(self) -> Optional[Pose]:
         """The current grasp as the gripper frame's pose in the held object's frame."""

@@ -1,0 +1,27 @@
+"""The generic samplers by the names domains bind streams to (`:sampler "grasp"`).
+
+The binding is declarative: a stream names its sampler in the domain file, and the sampler
+reads the stream's inputs by position (objects first, then values, as `SampleRequest`
+sorts them), never the operator or predicate names of a particular domain.
+"""
+from __future__ import annotations
+
+from typing import Callable, Dict
+
+from .contact import ContactSampler
+from .grasp import GraspSampler
+from .interface import Sampler
+from .placement import PlacementSampler
+from .trajectory import FreeMotionSampler, GraspMotionSampler, PlaceMotionSampler, PushMotionSampler
+
+# name -> a factory of the sampler (its comment: the stream inputs it reads)
+GENERIC_SAMPLERS: Dict[str, Callable[[], Sampler]] = {
+    "grasp": GraspSampler,                          # (?x): a grasp of object ?x
+    "placement": PlacementSampler,                  # (?x ?s): the held ?x resting on ?s
+    "contact": ContactSampler,                      # (... ?y ?s): what the hand holds touching ?y on ?s
+    "grasp-motion": GraspMotionSampler,             # (?x ?g): the arm to grasp ?g of ?x
+    "place-motion": PlaceMotionSampler,             # (... ?p): the arm to placement ?p
+    "push-motion": PushMotionSampler,               # (?c): from contact ?c, a push
+    "free-motion": lambda: FreeMotionSampler("free"),  # (): the empty hand elsewhere
+    "held-motion": lambda: FreeMotionSampler("held"),  # (?x): the held ?x elsewhere
+}
