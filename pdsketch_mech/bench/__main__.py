@@ -119,6 +119,96 @@ def run_plan_command(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def whole(text: str) -> int:
+    """A whole number >= 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 0, got {text!r}")
+    return value
+
+
+def _write_document(path: Optional[str], document) -> None:
+    if path:
+        write_json(path, document)
+
+
+def _keep_folder(keep: Optional[str]) -> Optional[str]:
+    """--keep DIR: created if missing (its parent must exist); None without --keep."""
+    if keep is None:
+        return None
+    if os.path.exists(keep) and not os.path.isdir(keep):
+        raise ipc.BenchError(f"--keep {keep}: is not a folder")
+    parent = os.path.dirname(os.path.abspath(keep))
+    if not os.path.isdir(parent):
+        raise ipc.BenchError(f"--keep {keep}: folder {os.path.dirname(keep) or '.'} does not exist")
+    os.makedirs(keep, exist_ok=True)
+    return keep
+
+
+def _check_domain(domain: str, problem: Optional[str] = None) -> None:
+    """The files exist and parse (a located error, exit 2, before any planning)."""
+    from ..lang.loader import load_domain, load_problem
+
+    for path in [domain] + ([problem] if problem else []):
+        if not os.path.isfile(path):
+            raise ipc.BenchError(f"{path}: no such file")
+    loaded = load_domain([domain])
+    if problem:
+        load_problem(problem, [loaded])
+
+
+def run_task_command(args: argparse.Namespace) -> int:
+    """`task`: a task distribution with one object's asset pinned, N seeds per asset."""
+    from . import tasks
+
+    try:
+        role, assets = tasks.parse_vary(args.vary)
+        tasks.check_vary(args.task, role, assets)
+    except tasks.TaskBenchError as error:
+        raise ipc.BenchError(str(error)) from None
+    if args.gif and not args.keep:
+        raise ipc.BenchError("--gif saves replays beside the kept files: add --keep DIR")
+    _check_domain(args.domain)
+    keep = _keep_folder(args.keep)
+    runs = tasks.run_task(args.task, role, assets, range(args.seeds), args.timeout, args.domain,
+                          args.basis_only, keep, args.gif)
+    header, cells, lines = tasks.table(runs)
+    print(render_text(header, cells, lines), end="")
+    _write_document(args.json, {"task": args.task, "role": role, "assets": list(assets), "domain": args.domain,
+                                "basis_only": args.basis_only, "seeds": args.seeds, "timeout_s": args.timeout,
+                                "runs": [asdict(r) for r in runs], "lines": lines})
+    return EXIT_UNSOLVED if any(r.status == "invalid" for r in runs) else EXIT_OK
+
+
+def run_reach_command(args: argparse.Namespace) -> int:
+    """`reach`: when does the planner create (and start refining) the given skeletons?"""
+    from . import reach
+
+    _check_domain(args.domain, args.problem)
+    try:
+        reach.check_patterns(args.skeleton, args.domain, args.problem)
+    except ValueError as error:
+        raise ipc.BenchError(str(error)) from None
+    keep = _keep_folder(args.keep)
+    enumerated = (reach.enumeration_rank(args.skeleton, args.domain, args.problem, args.basis_only,
+                                         args.enumerate, 60.0) if args.enumerate else None)
+    items = reach.run_reach(args.domain, args.problem, args.skeleton, range(args.seeds), args.timeout,
+                            args.basis_only, keep)
+    header, cells, lines = reach.table(items, args.skeleton, enumerated)
+    print(render_text(header, cells, lines), end="")
+    _write_document(args.json, {
+        "domain": args.domain, "problem": args.problem, "skeletons": args.skeleton, "basis_only": args.basis_only,
+        "seeds": args.seeds, "timeout_s": args.timeout,
+        "enumeration_rank": enumerated[0] if enumerated else None,
+        "enumerated": enumerated[1] if enumerated else None,
+        "runs": [{**asdict(item.run), "reached": [asdict(r) for r in item.reached],
+                  "last_created_s": item.last_created_s} for item in items], "lines": lines})
+    return EXIT_UNSOLVED if any(item.run.status == "invalid" for item in items) else EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser, one sub-parser per benchmark."""
     parser = ArgumentParser(prog="python -m pdsketch_mech.bench", description="Planner benchmarks.")
@@ -156,6 +246,35 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--timeout", type=seconds, default=300.0, metavar="S", help="seconds per run (default 300)")
     solve.add_argument("--json", metavar="FILE", help="write every run as JSON")
     solve.set_defaults(func=run_plan_command)
+    task = commands.add_parser("task", help="a task distribution, one object's asset pinned: solved, time, skeletons")
+    task.add_argument("task", metavar="TASK", help="a task of python -m pdsketch_mech.envs --list (e.g. hook, edge)")
+    task.add_argument("--vary", required=True, metavar="ROLE=ASSET[,ASSET...]",
+                      help="the object to pin and its assets, one row each (e.g. tool=spoon/0,hammer/0)")
+    task.add_argument("--domain", default="domains/basis.pddl", metavar="FILE",
+                      help="domain file (default domains/basis.pddl)")
+    task.add_argument("--basis-only", action="store_true", help="plan with basis operators only")
+    task.add_argument("--seeds", type=count, default=5, metavar="N",
+                      help="instances and planner seeds 0..N-1 per asset (default 5)")
+    task.add_argument("--timeout", type=seconds, default=300.0, metavar="S", help="seconds per run (default 300)")
+    task.add_argument("--keep", metavar="DIR", help="keep the problems and plan JSONs here (default: a temp folder)")
+    task.add_argument("--gif", action="store_true", help="with --keep: also save each solved plan's replay as a GIF")
+    task.add_argument("--json", metavar="FILE", help="write every run and the summary as JSON")
+    task.set_defaults(func=run_task_command)
+    reach = commands.add_parser("reach", help="when the planner creates (and refines) a given skeleton")
+    reach.add_argument("domain", metavar="DOMAIN", help="domain file")
+    reach.add_argument("problem", metavar="PROBLEM", help="problem file")
+    reach.add_argument("--skeleton", action="append", required=True, metavar="OPS",
+                       help='operator names ("grasp move-cont place grasp") or operators with objects '
+                            '("(grasp hook table) (move-cont hook box table) ..."); repeat for several')
+    reach.add_argument("--basis-only", action="store_true", help="plan with basis operators only")
+    reach.add_argument("--seeds", type=count, default=5, metavar="N", help="planner seeds 0..N-1 (default 5)")
+    reach.add_argument("--timeout", type=seconds, default=120.0, metavar="S", help="seconds per run (default 120)")
+    reach.add_argument("--enumerate", type=whole,  default=2000, metavar="N",
+                       help="also find each skeleton's place in the symbolic enumeration, up to N skeletons "
+                            "or 60 s (default 2000; 0: skip)")
+    reach.add_argument("--keep", metavar="DIR", help="keep the plan JSONs here (default: a temp folder)")
+    reach.add_argument("--json", metavar="FILE", help="write every run and the figures as JSON")
+    reach.set_defaults(func=run_reach_command)
     return parser
 
 
@@ -174,6 +293,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return args.func(args)
     except ipc.BenchError as error:
         print_error(PddlError(str(error)))
+        return EXIT_BAD_INPUT
+    except PddlError as error:  # a domain or problem file that does not load
+        print_error(error)
         return EXIT_BAD_INPUT
 
 
