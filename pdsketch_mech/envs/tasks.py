@@ -40,7 +40,7 @@ EDGE = TaskSpec(
         SMALL_TABLE,
         ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/0", "calculator/1", "document/0", "document/1"),
                                   ("caliper/0", "caliper/1", "caliper/2", "plate/2", "calculator/2", "document/2")),
-                   xy=(0.42, 0.22), yaw_by_category=(("calculator", 90.0), ("document", 90.0), ("caliper", 90.0)),
+                   xy=(0.48, 0.2), yaw_by_category=(("calculator", 90.0), ("document", 90.0), ("caliper", 90.0)),
                    scale=(0.9, 1.1), role="the flat object to pick up"),
     ),
     goal="(holding flat)",

@@ -121,7 +121,6 @@ CLOUD_POINTS = 1500     # surface points of an object checked against the grippe
 # calibrated to the millimetre, so pinching the top 1 mm of a caliper lying flat does not
 # count as a grasp (it must be pushed over an edge first, as in the paper's Edge task).
 SUPPORT_CLEARANCE = 0.005
-MIN_BITE = 0.003        # metres the fingertips reach past a pinched pair, at least
 
 
 def _grid(box, per_metre: float = 25.0) -> np.ndarray:
@@ -179,23 +178,6 @@ def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
     return np.hstack([points, np.ones((len(points), 1))])
 
 
-def _backed_off(frames: np.ndarray, placed: np.ndarray, bottom: float, opening: float) -> np.ndarray:
-    """For the downward approaches among `frames` (object frame) whose fingertips would come
-    closer than SUPPORT_CLEARANCE to the object's bottom, the frame moved back along the
-    approach just far enough, if the pair stays MIN_BITE behind the fingertips: the pads
-    then close on the pair nearer their tips, and a handle 12 mm tall lying flat is pinched
-    anywhere in its top 4 mm instead of only at its top edge. (The unmoved frames stay
-    candidates: an overhang's pinch needs the tips below the object's bottom.)"""
-    in_world = placed @ frames
-    tips = np.einsum("kij,nj->kni", in_world, _fingertip_points(opening))[..., 2].min(axis=1)
-    down = -in_world[:, 2, 2]
-    back = (bottom + SUPPORT_CLEARANCE + 0.001 - tips) / np.maximum(down, 1e-9)
-    chosen = (down > 0.3) & (back > 0) & (back <= FINGER_SPAN[1] - MIN_BITE)
-    moved = frames[chosen].copy()
-    moved[:, :3, 3] -= back[chosen, None] * moved[:, :3, 2]
-    return moved
-
-
 def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np.ndarray, p1: np.ndarray,
                      p2: np.ndarray, bottom: float, rng: np.random.Generator) -> List[np.ndarray]:
     """Gripper frames (object frame) for the pair at ANGLES approach angles (random offset)
@@ -207,7 +189,6 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
     hand would hang into the table is dropped here, sparing ~0.1 s of failing IK."""
     opening = grasp_opening(float(np.linalg.norm(p2 - p1)))
     frames = gripper_frames(p1, p2, rng.uniform(-np.pi, np.pi) + np.arange(ANGLES) * 2 * np.pi / ANGLES)
-    frames = np.concatenate([frames, _backed_off(frames, placed, bottom, opening)])
     in_world = placed @ frames
     keep = [i for i in range(len(frames)) if in_world[i, 2, 2] <= MAX_UP and world.within_reach(in_world[i])]
     if not keep:
