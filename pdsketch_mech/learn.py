@@ -80,7 +80,7 @@ def extract_command(args) -> int:
                   output_error(args.render, "--render", (npz, js, out), (".png",))):
         if error is not None:
             return _fail(error.message)
-    return _extract(args, recording, name, out, _command_line(args.demo, name, out, default_out))
+    return _extract(args, recording, name, out, _command_line(npz, name, out, default_out))
 
 
 def _extract(args, recording, name: str, out: str, command: str) -> int:

@@ -1,5 +1,5 @@
 ; Mechanism com: extracted from the demonstration com (Center-of-Mass, instance com-canonical) by
-;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/com --name com
+;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/com.npz --name com
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (grasp flat table) at 1.70 s

@@ -1,5 +1,5 @@
 ; Mechanism edge: extracted from the demonstration edge (Edge, instance edge-canonical) by
-;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/edge --name edge
+;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/edge.npz --name edge
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (transit-cont flat table) at 1.87 s

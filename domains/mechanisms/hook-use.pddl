@@ -1,5 +1,5 @@
 ; Mechanism hook-use: extracted from the demonstration hook (Hook, instance hook-canonical) by
-;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/hook --name hook-use
+;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/hook.npz --name hook-use
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (grasp tool table) at 2.53 s

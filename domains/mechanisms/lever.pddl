@@ -1,5 +1,5 @@
 ; Mechanism lever: extracted from the demonstration lever (Lever, instance lever-canonical) by
-;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/lever --name lever
+;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/lever.npz --name lever
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (grasp weight table) at 2.42 s

@@ -1,5 +1,5 @@
 ; Mechanism poking: extracted from the demonstration poking (Poking, instance poking-canonical) by
-;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/poking --name poking
+;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/poking.npz --name poking
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (grasp tool table) at 1.28 s

@@ -1,5 +1,5 @@
 ; Mechanism slope-blocker: extracted from the demonstration slope-blocker (Slope-and-Blocker, instance slope-blocker-canonical) by
-;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/slope-blocker --name slope-blocker
+;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/slope-blocker.npz --name slope-blocker
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (grasp blocker table) at 1.52 s

@@ -101,7 +101,11 @@ def extract(recording: Recording, name: str, source: str = "", basis: Optional[D
 
 
 def fragment_domain(extraction: Extraction, out_path: str, basis_path: str = BASIS) -> Domain:
-    extends = os.path.relpath(os.path.abspath(basis_path), os.path.dirname(os.path.abspath(out_path)))
+    basis, folder = os.path.abspath(basis_path), os.path.dirname(os.path.abspath(out_path))
+    # Relative when the two share more than the file system's root (a committed fragment
+    # must not name this checkout's absolute path); absolute otherwise.
+    shared = os.path.commonpath([basis, folder])
+    extends = os.path.relpath(basis, folder) if shared != os.path.dirname(shared) else basis
     return Domain(extraction.name, requirements=(":mechanisms",), extends=(extends.replace(os.sep, "/"),),
                   mechanisms=(extraction.lifted.mechanism,))
 
