@@ -108,8 +108,8 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
         if existing_text == text:
             status = "unchanged"
         elif not args.force:
-            return _fail(f"{os.path.relpath(out)} exists and differs: {_what_differs(out, existing_text, text, fragment)} "
-                         "(use --force to replace it)")
+            why = _what_differs(out, existing_text, text, fragment)
+            return _fail(f"{os.path.relpath(out)} exists and differs: {why} (use --force to replace it)")
     if status == "wrote":
         write_atomically(out, text)
     steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)

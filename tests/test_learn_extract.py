@@ -35,7 +35,6 @@ EXPECTED_STEPS = {
 
 import json
 import re
-import shutil
 import subprocess
 import sys
 
@@ -48,7 +47,7 @@ from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.learning.compare import differences, equivalent
 from pdsketch_mech.learning.extract import MECHANISMS_DIR, extract, fragment_text
 from pdsketch_mech.learning.recording import load_recording, save_recording
-from pdsketch_mech.learning.segmentation import debounce, segment
+from pdsketch_mech.learning.segmentation import debounce
 from pdsketch_mech.learning.steps import ExtractionError
 
 FRAGMENT = {"hook": "hook-use"}          # the Hook mechanism keeps the paper's name

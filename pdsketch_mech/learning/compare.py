@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Dict, List, Optional
 
-from ..lang.nodes import And, Formula, Mechanism, Var
+from ..lang.nodes import And, Atom, Const, Equals, Formula, Mechanism, Not, Var
 from ..lang.writer import formula as formula_text
 from ..symbolic.normalize import substitute
 
@@ -19,13 +19,11 @@ def _conjuncts(f: Formula) -> List[Formula]:
 
 def _rename(f: Formula, mapping: Dict[str, str]) -> Formula:
     # `substitute` turns variables into constants; turn them back into variables by name.
-    renamed = substitute(f, {k: v for k, v in mapping.items()})
+    renamed = substitute(f, mapping)
     return _consts_to_vars(renamed, set(mapping.values()))
 
 
 def _consts_to_vars(f: Formula, names: set) -> Formula:
-    from ..lang.nodes import Atom, Const, Equals, Not
-
     def term(t):
         return Var(t.name) if isinstance(t, Const) and t.name in names else t
 

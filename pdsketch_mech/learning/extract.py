@@ -16,7 +16,7 @@ from ..lang.errors import PddlError
 from ..lang.loader import load_domain
 from ..lang.nodes import Domain, Formula, Problem
 from ..lang.parser import parse_text
-from ..lang.writer import write_domain
+from ..lang.writer import formula, write_domain
 from ..symbolic.normalize import dnf
 from .lifting import Lifted, lift
 from .recording import Recording
@@ -74,7 +74,6 @@ def check_complete(recording: Recording, goal: Formula, ex: Explanation, static:
                               "it was cut off (re-record it)")
     if not _goal_holds(goal, ex.final | static):
         end = float(recording.arrays["time"][-1])
-        from ..lang.writer import formula
         raise ExtractionError(f"the goal {formula(goal)} does not hold when the recording ends "
                               f"(t = {end:.2f} s; contacts then: {_facts_text(ex.final)}): it is incomplete or "
                               "cut off, so it demonstrates nothing to extract")

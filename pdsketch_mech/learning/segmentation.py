@@ -32,7 +32,7 @@ from typing import Dict, FrozenSet, Hashable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .contact_modes import Bodies, FrameGraph, Pair, bodies_of, frame_graphs
+from .contact_modes import Bodies, FrameGraph, bodies_of, frame_graphs
 from .recording import Recording
 
 MIN_DURATION_S = 0.15

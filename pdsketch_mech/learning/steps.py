@@ -77,8 +77,10 @@ def graph_facts(seg: Segmentation, frame: int, held: Optional[int]) -> Set[Fact]
 def pair_force(seg: Segmentation, frame: int, a: int, b: int) -> float:
     """Total normal force between bodies a and b at `frame` (to rank several supports)."""
     rows = seg.recording.contacts(frame)
-    mask = [(sorted(p) == sorted((a, b))) and d < CONTACT_DISTANCE for p, d in zip(rows["bodies"].tolist(), rows["distance"])]
-    return float(np.asarray(rows["force"])[np.asarray(mask, dtype=bool)].sum()) if any(mask) else 0.0
+    pair = sorted((a, b))
+    mask = np.array([sorted(p) == pair and d < CONTACT_DISTANCE
+                     for p, d in zip(rows["bodies"].tolist(), rows["distance"])], dtype=bool)
+    return float(np.asarray(rows["force"])[mask].sum()) if mask.any() else 0.0
 
 
 class _Basis:

@@ -101,7 +101,7 @@ def render_timeline(extraction: Extraction, path: str, frames: Sequence[int], im
             label = "free"
         if s.mode.pushed:
             ax.barh(y["hand"], x1 - x0, left=x0, height=0.6, color="none", hatch="///", edgecolor="black", lw=0.5)
-            label += ", pushes " + ", ".join(names[o] for o in sorted(s.mode.pushed))
+            label = s.mode.describe(names)
         ax.text((x0 + x1) / 2, y["hand"], label, ha="center", va="center", fontsize=8, clip_on=True,
                 bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
     for o in movable:
