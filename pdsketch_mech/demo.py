@@ -1,13 +1,16 @@
 """`python -m pdsketch_mech.demo record|show|list`: scripted demonstrations, recorded as raw
 simulation data, and pictures of recordings.
 
-    record NAME [--seed N] [--split train|test] [--out DIR] [--force] [--render FILE.gif] [--strip FILE.png]
+    record NAME [--seed N] [--split train|test] [--variant V] [--out DIR] [--force] [--render FILE.gif] [--strip FILE.png]
         Run the scripted demonstration NAME (a task: edge, hook, lever, poking, com,
         slope-blocker) on the task's canonical instance, or with --seed on one with perturbed
         poses, recording the world at 60 Hz into DIR/NAME.npz + DIR/NAME.json (default DIR:
         domains/mechanisms/demos; with --seed the files are NAME-SPLIT-SEED.*). Exit 1 with
         one line if the script fails or the goal does not hold in the contact graph at the
         end (nothing is written); an existing recording is only replaced with --force.
+        --variant distractor-push adds a block the hand pushes aside before the script runs
+        (files NAME-distractor-push[-SPLIT-SEED].*), to test extraction on a demo that does
+        more than the trick.
     show FILE [--render FILE.gif] [--strip FILE.png] [--every K]
         Replay a recording's poses in a world built from its own problem text: a GIF (every
         K-th frame, default 8) and/or a strip of key frames with the contact points drawn
@@ -52,7 +55,8 @@ def record(args) -> int:
     for extra in (args.render, args.strip):
         if not _folder_ok(extra):
             return _fail(f"{extra}: its folder does not exist")
-    stem = args.name if args.seed is None else f"{args.name}-{args.split}-{args.seed}"
+    stem = args.name + (f"-{args.variant}" if args.variant else "")
+    stem += "" if args.seed is None else f"-{args.split}-{args.seed}"
     base = os.path.join(out, stem)
     if not args.force:
         for path in recording_paths(base):
@@ -60,10 +64,16 @@ def record(args) -> int:
                 return _fail(f"{os.path.relpath(path)} exists (use --force to replace it)")
 
     from .envs.demos.run import demo_instance, run_demo
+    from .envs.demos.variants import VARIANTS
 
     start = time.perf_counter()
     instance = demo_instance(args.name, args.split, args.seed)
-    result = run_demo(args.name, instance)
+    before = None
+    if args.variant:
+        change, before_script = VARIANTS[args.variant]
+        instance = change(instance)
+        before = (lambda world: before_script(world, instance))
+    result = run_demo(args.name, instance, on_world=before)
     task = TASKS[args.name]
     if result.error:
         return _fail(f"demo {args.name} ({instance.name}) failed: {result.error}", EXIT_UNSOLVED)
@@ -86,8 +96,11 @@ def record(args) -> int:
         "final_contacts": result.facts_text(),
         "script": f"pdsketch_mech/envs/demos/{'slope' if task.name == 'slope-blocker' else task.name}.py",
         "command": "python -m pdsketch_mech.demo record " + args.name
-                   + ("" if args.seed is None else f" --seed {args.seed} --split {args.split}"),
+                   + ("" if args.seed is None else f" --seed {args.seed} --split {args.split}")
+                   + (f" --variant {args.variant}" if args.variant else ""),
     })
+    if args.variant:
+        header["variant"] = args.variant
     try:
         npz, js = save_recording(base, result.extra["arrays"], header, force=args.force)
     except RecordingExists as exc:  # appeared meanwhile
@@ -148,6 +161,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     rec.add_argument("name", metavar="NAME", help="the demonstration (a task name)")
     rec.add_argument("--seed", type=seed_value, help="perturb the canonical instance's poses with this seed")
     rec.add_argument("--split", default="train", choices=("train", "test"))
+    rec.add_argument("--variant", choices=("distractor-push",),
+                     help="record a variant of the demo (distractor-push: push an extra block aside first)")
     rec.add_argument("--out", metavar="DIR", help="folder (default domains/mechanisms/demos)")
     rec.add_argument("--force", action="store_true", help="replace an existing recording")
     rec.add_argument("--render", metavar="FILE.gif", help="also render the recording")

@@ -1,0 +1,199 @@
+"""Lifting grounded steps to a mechanism: objects become typed variables named by their roles.
+
+Roles come from what the demonstration did with each body (its contacts), never from its
+name or category; the first rule that fits names it:
+
+    target    moved by the robot (held or pushed) and named by the goal
+    tool      held while it pushes another object (move-cont's ?x)
+    pushed    pushed (by the hand or a tool), not named by the goal
+    weight    moved, and ends up resting on a target
+    blocker   moved, and ends up touching a target without supporting it
+    object    moved, none of the above
+    support   supports a moved object at the start; the first one found is `support`, the
+              others `<role>-support` after the role of what they support (Lever: the
+              ledge under the target is `target-support`)
+    surface   something a moved object is put down on that supported nothing at the start
+    contacted touched by a pushed or held object (an "indirect" contact)
+
+A role held by several bodies is numbered (`target1`, `target2`). Continuous parameters are
+the basis operators' value parameters, named by type — g(rasp), p(lacement), c(ontact),
+q (conf), t(raj) — and numbered in step order when a type occurs more than once.
+
+The precondition is the initial contact-mode graph restricted to the involved bodies — the
+hand (`handempty` / `holding`) and every `support` — plus `(not (= ?a ?b))` for each pair of
+moved bodies (two of them may otherwise be grounded on one object). `touching` facts are
+left out: no basis operator maintains them, so requiring one would only stop the mechanism
+from applying. The certified effect is the demonstration's goal, lifted the same way.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Dict, Hashable, List, Sequence, Set, Tuple
+
+from ..lang.nodes import (ActionCall, And, Atom, Const, Domain, Equals, Formula, Mechanism, Not, Term,
+                          TypedName, Var)
+from ..symbolic.normalize import dnf
+from .steps import Explanation, Fact
+
+OBJECT_TYPE = "item"
+VALUE_LETTERS = {"grasp": "g", "placement": "p", "contact": "c", "conf": "q", "traj": "t"}
+
+
+@dataclass
+class Lifted:
+    mechanism: Mechanism
+    roles: Dict[int, str]          # body index -> variable name (with `?`)
+    reasons: Dict[int, str]        # body index -> why it has that role
+
+
+def goal_objects(goal: Formula) -> Set[str]:
+    """Every object (constant) the goal mentions."""
+    out: Set[str] = set()
+    for conj in dnf(goal, {}):
+        for lit in conj:
+            atom = lit.atom
+            terms = (atom.left, atom.right) if isinstance(atom, Equals) else atom.args
+            out |= {t.name for t in terms if isinstance(t, Const)}
+    return out
+
+
+def assign_roles(ex: Explanation, names: Sequence[str], goal: Formula) -> Tuple[Dict[int, str], Dict[int, str]]:
+    """Role names (without numbering) for every involved body, and the reason for each."""
+    in_goal = {i for i, n in enumerate(names) if n in goal_objects(goal)}
+    pushers = {st.objects[0] for st in ex.steps if st.operator == "move-cont"}
+    pushed = {st.objects[1] for st in ex.steps if st.operator == "move-cont"} | \
+             {st.objects[0] for st in ex.steps if st.operator == "transit-cont"}
+    targets = [o for o in ex.moved if o in in_goal]
+    final_support = {(f[1], f[2]) for f in ex.final if f[0] == "support"}
+    initial_support = [(f[1], f[2]) for f in sorted(ex.initial) if f[0] == "support"]
+    index = {n: i for i, n in enumerate(names)}
+    role: Dict[int, str] = {}
+    why: Dict[int, str] = {}
+
+    def on_target(o: int) -> bool:
+        return any((names[o], names[t]) in final_support for t in targets)
+
+    def touches_target(o: int) -> bool:
+        return any(f[0] == "touching" and {f[1], f[2]} == {names[o], names[t]} for f in ex.final for t in targets)
+
+    for o in ex.moved:
+        if o in targets:
+            role[o], why[o] = "target", "moved by the robot, named by the goal"
+        elif o in pushers:
+            role[o], why[o] = "tool", "held while it pushes another object"
+        elif o in pushed:
+            role[o], why[o] = "pushed", "pushed, not named by the goal"
+        elif on_target(o):
+            role[o], why[o] = "weight", "moved, ends up resting on the target"
+        elif touches_target(o):
+            role[o], why[o] = "blocker", "moved, ends up touching the target without supporting it"
+        else:
+            role[o], why[o] = "object", "moved"
+    moved = set(ex.moved)
+    for o in ex.involved:
+        if o in role:
+            continue
+        held_up = [index[x] for x, y in initial_support if index[y] == o and index[x] in moved]
+        if held_up:
+            first = "support" not in role.values()
+            role[o] = "support" if first else f"{role[held_up[0]]}-support"
+            why[o] = f"supports the {', '.join(sorted({role[x] for x in held_up}))} at the start"
+        elif any(st.operator == "place" and st.objects[1] == o for st in ex.steps):
+            role[o], why[o] = "surface", "something is put down on it"
+        elif o in ex.indirect:
+            role[o], why[o] = "contacted", "touched by a pushed or held object"
+        else:
+            role[o], why[o] = "object", "involved"
+    return role, why
+
+
+def _number(kinds: Sequence[Tuple[Hashable, str]]) -> Dict[Hashable, str]:
+    """`?role` for a role held once, `?role1`, `?role2`, ... otherwise (in order), as in the
+    paper's Fig. 3b (`?g1 ?t1 ... ?g2 ?t4`)."""
+    counts: Dict[str, int] = {}
+    for _, r in kinds:
+        counts[r] = counts.get(r, 0) + 1
+    seen: Dict[str, int] = {}
+    out = {}
+    for key, r in kinds:
+        seen[r] = seen.get(r, 0) + 1
+        out[key] = f"?{r}" if counts[r] == 1 else f"?{r}{seen[r]}"
+    return out
+
+
+def _formula_vars(f: Formula, names: Dict[str, str]) -> Formula:
+    """`f` with object constants replaced by their variables."""
+    def term(t: Term) -> Term:
+        return Var(names[t.name]) if isinstance(t, Const) and t.name in names else t
+
+    if isinstance(f, Atom):
+        return Atom(f.predicate, tuple(term(a) for a in f.args))
+    if isinstance(f, Equals):
+        return Equals(term(f.left), term(f.right))
+    if isinstance(f, Not):
+        return Not(_formula_vars(f.body, names))
+    if hasattr(f, "parts"):
+        return type(f)(tuple(_formula_vars(p, names) for p in f.parts))
+    raise ValueError(f"cannot lift a goal with {type(f).__name__}: extraction lifts conjunctions, "
+                     "disjunctions and negations of atoms")
+
+
+def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, name: str) -> Lifted:
+    """The mechanism `name` that the explanation `ex` of a demonstration with goal `goal` lifts to."""
+    role, why = assign_roles(ex, names, goal)
+    # Bodies only the goal names (not involved in any step) become parameters too.
+    for o, n in enumerate(names):
+        if n in goal_objects(goal) and o not in role and o != 0:
+            role[o], why[o] = "object", "named by the goal"
+    order = [o for o in ex.moved if o in role] + [o for o in ex.involved if o in role and o not in ex.moved]
+    order += [o for o in role if o not in order]
+    variables = _number([(o, role[o]) for o in order])
+    by_name = {names[o]: v for o, v in variables.items()}
+
+    actions = {a.name: a for a in basis.actions}
+    value_types = {t.name for t in basis.value_types}
+    slots: List[Tuple[int, int, str]] = []     # (step, position, type) of every value parameter
+    for k, st in enumerate(ex.steps):
+        for pos, p in enumerate(actions[st.operator].parameters):
+            if p.type in value_types:
+                slots.append((k, pos, p.type))
+    value_names = _number([((k, pos), VALUE_LETTERS.get(t, t[0])) for k, pos, t in slots])
+
+    calls, value_params = [], []
+    for k, st in enumerate(ex.steps):
+        objects = iter(st.objects)
+        args: List[Term] = []
+        for pos, p in enumerate(actions[st.operator].parameters):
+            if p.type in value_types:
+                v = value_names[(k, pos)]
+                args.append(Var(v))
+                value_params.append(TypedName(v, p.type))
+            else:
+                args.append(Var(variables[next(objects)]))
+        calls.append(ActionCall(st.operator, tuple(args)))
+
+    involved = set(variables)
+    pre: List[Formula] = []
+    hand = [f for f in ex.initial if f[0] in ("handempty", "holding")]
+    for f in sorted(hand):
+        pre.append(_atom(f, by_name))
+    supports = [f for f in ex.initial if f[0] == "support" and _index(f[1], names) in involved
+                and _index(f[2], names) in involved]
+    for o in order:                         # each body's supports, in parameter order
+        pre += [_atom(f, by_name) for f in sorted(supports) if f[1] == names[o]]
+    moved = [o for o in order if o in ex.moved]
+    for i, a in enumerate(moved):
+        for b in moved[i + 1:]:
+            pre.append(Not(Equals(Var(variables[a]), Var(variables[b]))))
+    certified = _formula_vars(goal, by_name)
+    parameters = tuple(TypedName(variables[o], OBJECT_TYPE) for o in order) + tuple(value_params)
+    mechanism = Mechanism(name, parameters, And(tuple(pre)) if len(pre) != 1 else pre[0], certified, tuple(calls))
+    return Lifted(mechanism, {o: variables[o] for o in order}, why)
+
+
+def _index(name: str, names: Sequence[str]) -> int:
+    return list(names).index(name)
+
+
+def _atom(fact: Fact, by_name: Dict[str, str]) -> Atom:
+    return Atom(fact[0], tuple(Var(by_name[a]) for a in fact[1:]))

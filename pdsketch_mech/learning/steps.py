@@ -1,0 +1,217 @@
+"""Contact-mode segments -> basis operators (the paper's Table 1), checked symbolically.
+
+The paper's table gives one operator per contact-mode family. In `domains/basis.pddl`
+grasp, place, move-cont and transit-cont each plan their own arm motion up to the contact
+they make (`grasp-motion`, `place-motion`, `push-motion` streams), so a segment of pure
+motion — free (transit) or holding something that touches nothing (move) — changes no
+contact and is folded into the trajectory of the step that follows it; a trailing one (the
+lift after the last grasp) changes nothing either and is dropped. The mapping, by what
+changes between two segments:
+
+    hand empty -> holds x            grasp x s        s: x's support just before
+    holds x -> hand empty            place x s        s: what x rests on once settled
+    holds x, x starts pushing y      move-cont x y s  s: y's support when the push starts
+    hand empty, hand starts pushing  transit-cont y s s: y's support when the push starts
+
+When an object has several supports, the one the symbolic state already has is chosen
+(e.g. the tipped plate of Lever touches the table as well as its ledge: the ledge it was
+on is the one `grasp` takes it from); each step is then checked against the basis domain's
+own precondition and effect, so a demonstration the basis operators cannot explain is an
+error rather than a fragment that never applies.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Dict, FrozenSet, List, Optional, Sequence, Set, Tuple
+
+import numpy as np
+
+from ..lang.nodes import Action, Domain, Equals, Formula
+from ..symbolic.normalize import dnf, flatten_effect, substitute
+from .contact_modes import CONTACT_DISTANCE
+from .segmentation import Segmentation
+
+Fact = Tuple[str, ...]
+
+
+class ExtractionError(Exception):
+    """The demonstration cannot be turned into a mechanism; the message says why."""
+
+
+@dataclass(frozen=True)
+class Step:
+    """One basis operator grounded on the recording's bodies (header indices)."""
+
+    operator: str
+    objects: Tuple[int, ...]
+    segment: int          # the segment this step's contact change starts
+    frame: int            # the frame where it happens
+
+    def text(self, names: Sequence[str]) -> str:
+        return "(" + " ".join([self.operator, *(names[o] for o in self.objects)]) + ")"
+
+
+@dataclass
+class Explanation:
+    """The steps of a demonstration and the facts around them."""
+
+    steps: List[Step]
+    initial: Set[Fact]                 # contact-mode facts at the start (all bodies)
+    final: Set[Fact]                   # at the end of the recording
+    involved: List[int]                # bodies the mechanism is about, in order of appearance
+    moved: List[int]                   # the involved bodies the robot moved (held or pushed)
+    indirect: Set[int] = field(default_factory=set)   # touched by a pushed/held object
+
+
+def graph_facts(seg: Segmentation, frame: int, held: Optional[int]) -> Set[Fact]:
+    """The basis domain's contact-mode facts at `frame` (a held object has no support)."""
+    names = seg.bodies.names
+    graph = seg.graphs[frame]
+    facts: Set[Fact] = {("holding", names[held])} if held is not None else {("handempty",)}
+    facts |= {("support", names[x], names[y]) for x, y in graph.support if x != held}
+    facts |= {("touching", *sorted((names[x], names[y]))) for x, y in graph.touching
+              if (x, y) not in graph.support and (y, x) not in graph.support}
+    return facts
+
+
+def pair_force(seg: Segmentation, frame: int, a: int, b: int) -> float:
+    """Total normal force between bodies a and b at `frame` (to rank several supports)."""
+    rows = seg.recording.contacts(frame)
+    pair = sorted((a, b))
+    mask = np.array([sorted(p) == pair and d < CONTACT_DISTANCE
+                     for p, d in zip(rows["bodies"].tolist(), rows["distance"])], dtype=bool)
+    return float(np.asarray(rows["force"])[mask].sum()) if mask.any() else 0.0
+
+
+class _Basis:
+    """The basis operators' preconditions and effects over ground facts."""
+
+    def __init__(self, domain: Domain):
+        self.actions: Dict[str, Action] = {a.name: a for a in domain.actions}
+        self.value_types = {t.name for t in domain.value_types}
+        # Facts certified by streams are about continuous values: the samplers' business.
+        self.stream_predicates = {lit.atom.predicate for s in domain.streams
+                                  for conj in dnf(s.certified, {}) for lit in conj if hasattr(lit.atom, "predicate")}
+
+    def _binding(self, name: str, objects: Sequence[str]) -> Dict[str, str]:
+        action = self.actions[name]
+        object_params = [p for p in action.parameters if p.type not in self.value_types]
+        return {p.name: o for p, o in zip(object_params, objects)}
+
+    def unmet(self, name: str, objects: Sequence[str], facts: Set[Fact]) -> Optional[str]:
+        """The first precondition literal that fails in `facts`, as text; None if all hold."""
+        formula = substitute(self.actions[name].precondition, self._binding(name, objects))
+        failures = []
+        for conj in dnf(formula, {}):
+            bad = next((lit for lit in conj if not self._holds(lit, facts)), None)
+            if bad is None:
+                return None
+            failures.append(bad)
+        lit = failures[0]
+        text = _literal_text(lit.atom)
+        return text if lit.positive else f"(not {text})"
+
+    def _holds(self, lit, facts: Set[Fact]) -> bool:
+        atom = lit.atom
+        if isinstance(atom, Equals):
+            return (atom.left.name == atom.right.name) == lit.positive
+        if atom.predicate in self.stream_predicates:
+            return True
+        fact = (atom.predicate, *(t.name for t in atom.args))
+        return (fact in facts) == lit.positive
+
+    def apply(self, name: str, objects: Sequence[str], facts: Set[Fact]) -> Set[Fact]:
+        effect: Formula = substitute(self.actions[name].effect, self._binding(name, objects))
+        out = set(facts)
+        for part in flatten_effect(effect, {}):
+            for lit in part.literals:
+                fact = (lit.atom.predicate, *(t.name for t in lit.atom.args))
+                (out.add if lit.positive else out.discard)(fact)
+        return out
+
+
+def _literal_text(atom) -> str:
+    if isinstance(atom, Equals):
+        return f"(= {atom.left.name} {atom.right.name})"
+    return "(" + " ".join([atom.predicate, *(t.name for t in atom.args)]) + ")"
+
+
+def explain(seg: Segmentation, basis: Domain) -> Explanation:
+    """The basis steps that explain the segmentation, checked against `basis`."""
+    names = seg.bodies.names
+    ops = _Basis(basis)
+    segments = seg.segments
+    static = {("fixed", names[o]) for o in seg.bodies.fixed}
+    first = segments[0].mode
+    initial = graph_facts(seg, 0, first.held)
+    state = initial | static
+    steps: List[Step] = []
+    moved: List[int] = []
+    indirect: Set[int] = set()
+
+    def add(op: str, objects: Tuple[int, ...], index: int, frame: int) -> None:
+        nonlocal state
+        ground = [names[o] for o in objects]
+        problem = ops.unmet(op, ground, state)
+        if problem is not None:
+            raise ExtractionError(
+                f"at t = {seg.time(frame):.2f} s the demonstration does ({op} {' '.join(ground)}), but its "
+                f"precondition {problem} does not hold after the steps before it: the basis operators cannot "
+                "explain this demonstration")
+        state = ops.apply(op, ground, state)
+        steps.append(Step(op, objects, index, frame))
+
+    def support(obj: int, frame: int, window: Tuple[int, int]) -> int:
+        """obj's support at `frame`: the one the symbolic state has, else the strongest."""
+        found = seg.supports_of(obj, frame)
+        if not found:
+            for f in range(window[0], window[1] + 1):   # e.g. still settling at that frame
+                found = seg.supports_of(obj, f)
+                if found:
+                    break
+        if not found:
+            raise ExtractionError(f"at t = {seg.time(frame):.2f} s {names[obj]} rests on nothing: "
+                                  "no support to ground the step on")
+        known = [y for y in found if ("support", names[obj], names[y]) in state]
+        if known:
+            return known[0]
+        return max(found, key=lambda y: (pair_force(seg, frame, obj, y), -y))
+
+    for i, s in enumerate(segments):
+        prev = segments[i - 1].mode if i else None
+        mode = s.mode
+        if prev is not None and prev.held is not None and prev.held != mode.held:
+            x = prev.held
+            # What x rests on once it has settled: the end of the segment after the release.
+            add("place", (x, support(x, s.end, (s.start, s.end))), i, s.start)
+        if prev is not None and mode.held is not None and prev.held != mode.held:
+            x = mode.held
+            before = max(0, s.start - 1)
+            add("grasp", (x, support(x, before, (max(0, before - 10), s.start))), i, s.start)
+        if mode.pushed:
+            already: FrozenSet[int] = prev.pushed if prev is not None and prev.held == mode.held else frozenset()
+            for y in sorted(mode.pushed - already):
+                sy = support(y, s.start, (s.start, s.end))
+                if mode.held is not None:
+                    add("move-cont", (mode.held, y, sy), i, s.start)
+                else:
+                    add("transit-cont", (y, sy), i, s.start)
+            # Indirect contacts: what the pushed objects touch while they are pushed.
+            for f in range(s.start, s.end + 1):
+                for a, b in seg.graphs[f].touching:
+                    for y in mode.pushed:
+                        other = b if a == y else a if b == y else None
+                        if other is not None and other != mode.held and other not in mode.pushed:
+                            indirect.add(other)
+        for o in ([mode.held] if mode.held is not None else []) + sorted(mode.pushed):
+            if o not in moved:
+                moved.append(o)
+    if not steps:
+        raise ExtractionError("no contact mode changes in the demonstration: nothing to learn "
+                              f"(the robot's mode is '{first.describe(names)}' throughout)")
+    final = graph_facts(seg, seg.recording.frames - 1, segments[-1].mode.held)
+    involved: List[int] = []
+    for o in [o for st in steps for o in st.objects] + sorted(indirect):
+        if o not in involved:
+            involved.append(o)
+    return Explanation(steps, initial, final, involved, [o for o in moved if o in involved], indirect)
