@@ -45,6 +45,7 @@ YAWS = 16               # turns of a held tool about the support normal examined
 FACING_COS = 0.3        # the tool point's normal must face the target's by at least this
 SLIDE = 0.004           # metres between a held tool's underside and the target's support
 POSES_PER_POINT = 2     # tool poses kept per point pair (of those passing the cheap tests)
+MAX_TIP = 0.7           # radians a held tool may be tipped (its far end down) for a contact
 PULL_BIAS = 3.0         # an out-of-reach target's pulls are up to 1 + PULL_BIAS times likelier than pushes away
 IK_RESTARTS = 10        # fewer than IK's default: a failure costs ~70 ms at 30, most are out of reach
 
@@ -143,20 +144,30 @@ def _tool_poses(world: "World", tool: str, tool_vertices: np.ndarray, p1: np.nda
                 p2: np.ndarray, n2: np.ndarray, n_s: np.ndarray, level: float, gap: float,
                 tcp_in_tool: np.ndarray, rng: np.random.Generator) -> Tuple[np.ndarray, ...]:
     """Held-tool poses (4x4) that put tool point p1 `gap` in front of target point p2, the
-    tool turned about the support normal n_s from how it is held now (its up is kept) and
-    lowered to SLIDE above the support. Of YAWS turns (random offset), those pass where n1
-    faces the target, the hand is within reach, and the tool penetrates nothing at the
-    contact nor backed off: a straight tool held diagonally pulls with its tip, a crook
-    with its inner face, whatever the object (no face of the tool must match the target's)."""
+    tool turned about the support normal n_s from how it is held now, for half of them also
+    tipped (up to MAX_TIP) so that p1's end of the tool goes down and the hand up, and
+    lowered until its lowest point is SLIDE above the support. Of YAWS turns (random offset),
+    those pass where n1 faces the target, the hand is within reach, and the tool penetrates
+    nothing at the contact nor backed off: a straight tool held diagonally pulls with its
+    tip, a crook with its inner face, whatever the object (no face of the tool must match
+    the target's); tipping a tool held from above moves the wrist back towards the robot,
+    which is what a short tool needs to reach behind a far object."""
     now = pose_matrix(world.pose(tool))[:3, :3]
     yaws = rng.uniform(0.0, 2 * np.pi) + np.arange(YAWS) * 2 * np.pi / YAWS
     turns = Rotation.from_rotvec(yaws[:, None] * n_s).as_matrix() @ now          # (k, 3, 3)
+    # Tip about the horizontal axis across the line from the hand to p1 (p1 goes down).
+    reach = turns @ (p1 - tcp_in_tool[:3, 3])
+    reach -= (reach @ n_s)[:, None] * n_s
+    axis = np.cross(n_s, reach)
+    axis /= np.maximum(np.linalg.norm(axis, axis=1), 1e-9)[:, None]
+    tips = np.where(rng.random(YAWS) < 0.5, rng.uniform(0.0, MAX_TIP, YAWS), 0.0)
+    turns = Rotation.from_rotvec(tips[:, None] * axis).as_matrix() @ turns
     facing = (turns @ n1) @ n2
-    lowest = float(np.min((tool_vertices @ now.T) @ n_s))  # a turn about n_s keeps it
+    lowest = np.min(np.einsum("kij,nj->kni", turns, tool_vertices) @ n_s, axis=1)  # (k,)
     poses = np.tile(np.eye(4), (YAWS, 1, 1))
     poses[:, :3, :3] = turns
     offset = p2 + gap * n2 - turns @ p1                                           # (k, 3)
-    # Slide the contact point along n_s so the tool's underside is SLIDE above the support.
+    # Slide the contact point along n_s so the tool's lowest point is SLIDE above the support.
     offset += ((level + SLIDE - lowest) - offset @ n_s)[:, None] * n_s
     poses[:, :3, 3] = offset
     keep = [k for k in rng.permutation(YAWS) if facing[k] < -FACING_COS and world.within_reach(poses[k] @ tcp_in_tool)]
