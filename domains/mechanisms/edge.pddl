@@ -2,8 +2,8 @@
 ;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/edge.npz --name edge
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
-;   1. (transit-cont flat table) at 1.87 s
-;   2. (grasp flat table) at 5.75 s
+;   1. (transit-cont flat table) at 1.93 s
+;   2. (grasp flat table) at 5.95 s
 ; Variables (role: why):
 ;   ?target = flat: moved by the robot, named by the goal
 ;   ?support = table: supports the target at the start

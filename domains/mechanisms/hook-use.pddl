@@ -3,9 +3,9 @@
 ; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
 ; Steps (demonstration time):
 ;   1. (grasp tool table) at 2.53 s
-;   2. (move-cont tool target table) at 4.57 s
-;   3. (place tool table) at 8.18 s
-;   4. (grasp target table) at 12.03 s
+;   2. (move-cont tool target table) at 4.42 s
+;   3. (place tool table) at 7.70 s
+;   4. (grasp target table) at 11.58 s
 ; Variables (role: why):
 ;   ?tool = tool: held while it pushes another object
 ;   ?target = target: moved by the robot, named by the goal
