@@ -26,7 +26,7 @@ from scipy.spatial.transform import Rotation
 
 from ..world.collision import CollisionChecker, body_penetrates
 from ..world.robot import CLOSED
-from .geometry import body_mesh, matrix_pose, pose_matrix, rotation_between, sample_surface
+from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_TIP, HAND_UNDERSIDE
 from .interface import Sampler, SampleRequest
 from .types import Contact
