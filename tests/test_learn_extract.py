@@ -239,7 +239,9 @@ def test_cli_writes_the_timeline_and_the_fragment_and_keeps_a_different_one(tmp_
     assert first.stderr.startswith("wrote ")
     fragment = read_domain_file(str(out))
     assert fragment.mechanisms[0] == extracted("hook").lifted.mechanism
-    assert os.path.isabs(fragment.extends[0])      # a tmp folder shares only / with the basis
+    # Wherever the fragment is written (a checkout under /tmp shares /tmp with tmp_path), its
+    # :extends names this checkout's basis file.
+    assert os.path.samefile(os.path.join(tmp_path, fragment.extends[0]), os.path.join(ROOT, "domains", "basis.pddl"))
     again = run_cli("extract", os.path.join(DEMOS_DIR, "hook.npz"), "--name", "hook-use", "--out", str(out))
     assert again.returncode == 0 and again.stderr.startswith("unchanged ")
     out.write_text(out.read_text().replace("(not (= ?tool ?target))", ""))
