@@ -11,6 +11,8 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import threading
+import time
 from typing import Callable, Dict, Iterator, List, Optional, Sequence
 
 import numpy as np
@@ -22,10 +24,22 @@ from .selfplay_store import done_episodes, open_folder, summary, update_manifest
 Progress = Callable[[Dict[str, object]], None]
 
 
-def _ignore_interrupt() -> None:
+def _init_worker(parent: int) -> None:
     # Ctrl-C goes to the whole process group: the parent stops the pool; workers printing
     # their own KeyboardInterrupt tracebacks would only bury the one-line message.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # A parent killed outright (SIGKILL) cannot stop its pool: workers would run on as
+    # orphans, burning the CPU for results nobody reads. They watch for it and quit.
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+    threading.Thread(target=watch, daemon=True).start()
+
+
+def _terminate(signum, frame) -> None:
+    # `kill` (SIGTERM) ends the run like Ctrl-C: the pool's exit stops the workers.
+    raise KeyboardInterrupt
 
 
 def _work(job) -> Dict[str, np.ndarray]:
@@ -41,9 +55,15 @@ def _results(config: SelfPlayConfig, todo: Sequence[int], workers: int) -> Itera
     # Set-iteration order must not depend on a worker's hash seed.
     os.environ.setdefault("PYTHONHASHSEED", "0")
     context = multiprocessing.get_context("spawn")
-    with context.Pool(min(workers, len(todo)), initializer=_ignore_interrupt, maxtasksperchild=None) as pool:
-        # chunksize 1: a long episode does not hold back others queued behind it in a batch.
-        yield from pool.imap_unordered(_work, [(config, e) for e in todo], chunksize=1)
+    previous = signal.signal(signal.SIGTERM, _terminate) if threading.current_thread() is threading.main_thread() \
+        else None
+    try:
+        with context.Pool(min(workers, len(todo)), initializer=_init_worker, initargs=(os.getpid(),)) as pool:
+            # chunksize 1: a long episode does not hold back others queued behind it in a batch.
+            yield from pool.imap_unordered(_work, [(config, e) for e in todo], chunksize=1)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 def pending(folder: str, episodes: int) -> List[int]:
