@@ -1,4 +1,4 @@
-"""`python -m pdsketch_mech.learn extract DEMO`: a recorded demonstration -> a mechanism fragment.
+"""`python -m pdsketch_mech.learn extract|selfplay`: demonstrations -> mechanisms -> sampler data.
 
     extract DEMO [--name NAME] [--out FILE.pddl] [--render FILE.png] [--force]
         Segment the recording DEMO (NAME.npz, NAME.json or NAME) by contact modes, map the
@@ -8,8 +8,16 @@
         printed on stdout. --render draws it under key frames. An existing FILE that differs
         from what would be written is kept (exit 2, saying what differs) unless --force.
 
+    selfplay NAME [--episodes N] [--seed S] [--workers K] [--out DIR] [--budget UNITS]
+                  [--time-limit S] [--fragment FILE] [--task TASK]
+        Self-play (paper Alg. 2) of mechanism NAME (domains/mechanisms/NAME.pddl) on train
+        instances of its task: every value the generic samplers draw, with its context,
+        labelled 1 if the successful plan used it. Data go to DIR (default
+        out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped.
+
 Exit status: 0 written (or already up to date), 1 the demonstration cannot be turned into a
-mechanism (e.g. cut off before its goal holds), 2 bad input (one `error:` line).
+mechanism (e.g. cut off before its goal holds) or no self-play episode succeeded, 2 bad
+input (one `error:` line).
 """
 from __future__ import annotations
 
@@ -19,7 +27,7 @@ import sys
 import time
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, output_error, run_and_exit
+from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit, seconds, seed
 from .lang.errors import PddlError, escape
 
 NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
@@ -39,6 +47,19 @@ def _parser() -> ArgumentParser:
     ext.add_argument("--out", metavar="FILE.pddl", help="where to write (default domains/mechanisms/NAME.pddl)")
     ext.add_argument("--render", metavar="FILE.png", help="draw the timeline under key frames")
     ext.add_argument("--force", action="store_true", help="replace an existing fragment that differs")
+    play = commands.add_parser("selfplay", help="self-play data of mechanism NAME (labelled samples)")
+    play.add_argument("name", metavar="NAME", help="the mechanism (domains/mechanisms/NAME.pddl)")
+    play.add_argument("--episodes", type=count, default=100, help="episodes 0..N-1 (default 100)")
+    play.add_argument("--seed", type=seed, default=0, help="base seed: episode i uses seeds of (S, i) (default 0)")
+    play.add_argument("--workers", type=count, default=1, help="processes running episodes (default 1)")
+    play.add_argument("--out", metavar="DIR", help="data folder (default out/selfplay/NAME)")
+    play.add_argument("--budget", type=count, default=400, metavar="UNITS",
+                      help="work units per episode: samples drawn and simulated (default 400)")
+    play.add_argument("--time-limit", type=seconds, default=300.0, metavar="S",
+                      help="seconds per episode, a safety net (default 300)")
+    play.add_argument("--fragment", metavar="FILE", help="the mechanism's fragment (default domains/mechanisms/NAME.pddl)")
+    play.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's)")
+    play.add_argument("--backend", choices=("local", "ray"), default="local", help="local processes (ray: not yet)")
     return parser
 
 
@@ -165,11 +186,82 @@ def _render(extraction, path: str) -> List[int]:
     return frames
 
 
+def selfplay_command(args) -> int:
+    from .learning.selfplay import SelfPlayConfig, default_fragment, find_mechanism, task_of, _domain
+    from .learning.selfplay_store import StoreError, open_folder
+
+    if args.backend == "ray":
+        return _fail("--backend ray: not yet (self-play runs in local processes: --workers K)")
+    if not NAME.match(args.name):
+        return _fail(f"{args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
+    fragment = args.fragment or default_fragment(args.name)
+    if not os.path.isfile(fragment):
+        return _fail(f"{fragment}: no such file" + ("" if args.fragment else f" (is {args.name} a mechanism?)"))
+    try:
+        mechanism = find_mechanism(_domain(os.path.abspath(fragment)), args.name)
+    except PddlError as exc:
+        print_error(exc)
+        return EXIT_BAD_INPUT
+    except ValueError as exc:
+        return _fail(str(exc))
+    from .envs.tasks import TASKS
+    task = args.task or task_of(fragment, args.name)
+    if task is None:
+        return _fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "
+                     f"({', '.join(TASKS)})")
+    if task not in TASKS:
+        return _fail(f"--task {task}: unknown task; tasks: {', '.join(TASKS)}")
+    out = args.out or os.path.join("out", "selfplay", args.name)
+    if os.path.exists(out) and not os.path.isdir(out):
+        return _fail(f"--out {out}: is not a folder")
+    parent = os.path.dirname(os.path.abspath(out))
+    if args.out is not None and not os.path.isdir(parent):
+        return _fail(f"--out {out}: folder {os.path.dirname(out) or '.'} does not exist")
+    config = SelfPlayConfig(mechanism.name, os.path.abspath(fragment), task, args.seed, args.budget, args.time_limit)
+    try:
+        os.makedirs(out, exist_ok=True)
+        open_folder(out, config.identity())
+    except StoreError as exc:
+        return _fail(str(exc))
+    except OSError as exc:
+        return _fail(f"--out {out}: cannot create: {exc.strerror}")
+    if not os.access(out, os.W_OK):
+        return _fail(f"--out {out}: is not writable")
+    return _selfplay(args, config, out)
+
+
+def _selfplay(args, config, out: str) -> int:
+    from tqdm import tqdm
+
+    from .learning.selfplay_run import pending, run_selfplay
+
+    start = time.perf_counter()
+    todo = len(pending(out, args.episodes))
+    counts = {"successes": 0, "samples": 0}
+    command = " ".join(["python -m pdsketch_mech.learn selfplay", args.name, "--episodes", str(args.episodes),
+                        "--seed", str(args.seed), "--budget", str(args.budget)])
+    with tqdm(total=todo, file=sys.stderr, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}") as bar:
+        def progress(row) -> None:
+            counts["successes"] += row["success"]
+            counts["samples"] += row["samples"]
+            rate = counts["samples"] / max(1e-9, time.perf_counter() - start)
+            bar.set_postfix_str(f"{counts['successes']} succeeded, {rate:.1f} samples/s")
+            bar.update(1)
+        manifest = run_selfplay(config, out, args.episodes, args.workers, progress, command)
+    totals = manifest["totals"]
+    size = sum(os.path.getsize(os.path.join(root, f)) for root, _, files in os.walk(out) for f in files)
+    share = 100.0 * totals["successes"] / max(1, totals["episodes"])
+    print(f"selfplay {args.name}: {totals['episodes']} episodes in {out} ({todo} run now, "
+          f"{time.perf_counter() - start:.1f} s), {totals['successes']} succeeded ({share:.0f} %), "
+          f"{totals['samples']} samples ({totals['positives']} labelled 1), {size / 1e6:.2f} MB", file=sys.stderr)
+    return EXIT_OK if totals["successes"] else EXIT_UNSOLVED
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     args = _parser().parse_args(argv)
     if args.command is None:
-        return _fail("give a command: extract")
-    return {"extract": extract_command}[args.command](args)
+        return _fail("give a command: extract, selfplay")
+    return {"extract": extract_command, "selfplay": selfplay_command}[args.command](args)
 
 
 if __name__ == "__main__":

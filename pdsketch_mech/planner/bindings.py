@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 from collections import Counter
-from typing import Dict, Iterator, List, Mapping, Optional
+from typing import Callable, Dict, Iterator, List, Mapping, Optional
 
 import numpy as np
 
@@ -19,6 +19,10 @@ from ..samplers.interface import Sampler, SampleRequest, StepContext
 from ..samplers.registry import GENERIC_SAMPLERS
 from ..symbolic.optimistic import Placeholder, is_placeholder
 from ..world.world import World
+
+# Told of every value a stream's sampler yields, with the request it answered (self-play
+# records them); the world is in the state the value was drawn in.
+SampleObserver = Callable[[SampleRequest, object], None]
 
 
 class StepSampler:
@@ -32,6 +36,7 @@ class StepSampler:
             known = ", ".join(sorted(GENERIC_SAMPLERS))
             raise ValueError(f"no sampler named {', '.join(unknown)}; known: {known}")
         self.samplers: Dict[str, Sampler] = {s.name: GENERIC_SAMPLERS[s.sampler or s.name]() for s in streams.values()}
+        self.observers: List[SampleObserver] = []
 
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,
                 parents: Optional[Mapping[str, object]] = None, per_value: int = 1) -> Iterator[Dict[str, object]]:
@@ -60,6 +65,8 @@ class StepSampler:
             if time.perf_counter() > self.deadline:
                 break
             self.counts[key] += 1
+            for observe in self.observers:
+                observe(request, value)
             values[name] = value
             yield from self._assign(world, step, parents, poses, rest, values, rng, per_value, root=False)
             drawn += 1

@@ -88,6 +88,12 @@ class World:
     def __exit__(self, *exc) -> None:
         self.close()
 
+    def __reduce_ex__(self, protocol):
+        # A World is a handle on a simulator in this process: a copy elsewhere would hold a
+        # dead client id. Processes rebuild their own world from the problem text instead.
+        raise TypeError("a World cannot be pickled (it wraps a PyBullet client of this process): "
+                        "send the problem text and seed, and build the world where it is used")
+
     # ------------------------------------------------------------------ objects
     def add_object(self, obj: SceneObject, urdf: str) -> Body:
         """Load `obj` from `urdf` at its scene pose, with its physical overrides."""

@@ -1,0 +1,189 @@
+"""Self-play (paper Alg. 2): one episode of a mechanism on one instance of its task.
+
+An episode draws a train-split instance of the task (distractors included), grounds the
+mechanism on a random choice of the objects present whose precondition holds symbolically
+(the learner is not told which object plays which role), fixes the skeleton to the
+mechanism's steps and runs the continuous search with the generic samplers under a budget.
+Every value drawn is logged (selfplay_record.py) and labelled 1 if the successful plan used
+it, 0 otherwise.
+
+Episode i draws everything from seeds derived from (base seed, i) alone, and its budget is
+counted in work units (planner/schedule.py): the same seed gives the same data, whichever
+process runs the episode and in whatever order. A seconds limit is a safety net only (an
+episode that hits it is marked, since its data then depend on the machine's speed).
+"""
+from __future__ import annotations
+
+import os
+import re
+import time
+from collections import Counter
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+from ..envs.generate import sample as sample_instance
+from ..envs.tasks import TASKS
+from ..lang.loader import LoadedDomain, load_domain
+from ..lang.nodes import Mechanism, Problem
+from ..lang.parser import parse_text
+from ..planner.bilevel import prepare_task
+from ..planner.bindings import StepSampler
+from ..planner.execute import settle_start
+from ..planner.refine import Refinement, skeleton_steps
+from ..symbolic.task import StripsTask
+from ..world.build import build_world
+from .selfplay_record import MAX_PARENTS, VALUE_WIDTH, SampleLog
+
+SLICE_UNITS = 16  # work units per call of the refinement: only how often the deadline is looked at
+
+
+@dataclass(frozen=True)
+class SelfPlayConfig:
+    """Everything an episode depends on (picklable: sent to worker processes)."""
+
+    mechanism: str          # the mechanism's name in the fragment
+    fragment: str           # the fragment's path (it extends the basis domain)
+    task: str               # the task distribution its instances come from (envs/tasks.py)
+    seed: int = 0           # the base seed: episode i uses seeds derived from (seed, i)
+    budget: int = 400       # work units per episode (samples drawn and simulated, samplers running dry)
+    time_limit: float = 300.0  # seconds per episode, a safety net (hitting it is recorded)
+
+    def identity(self) -> Dict[str, object]:
+        """What must match for two runs to write into the same folder."""
+        return {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
+                "time_limit": self.time_limit}
+
+
+def episode_seeds(base: int, episode: int) -> Tuple[int, int]:
+    """(instance seed, planner seed) of episode `episode`: a function of (base, episode) only."""
+    instance, planner = np.random.SeedSequence([base, episode]).generate_state(2)
+    return int(instance), int(planner)
+
+
+@lru_cache(maxsize=4)
+def _domain(fragment: str) -> LoadedDomain:
+    return load_domain([fragment])  # parsed once per process
+
+
+def find_mechanism(loaded: LoadedDomain, name: str) -> Mechanism:
+    for mechanism in loaded.domain.mechanisms:
+        if mechanism.name == name:
+            return mechanism
+    names = ", ".join(m.name for m in loaded.domain.mechanisms) or "none"
+    raise ValueError(f"no mechanism named {name} in {loaded.files[0]} (it has: {names})")
+
+
+DEMO_LINE = re.compile(r"^; Mechanism \S+: extracted from the demonstration (\S+)", re.M)
+
+
+def task_of(fragment: str, name: str) -> Optional[str]:
+    """The task a mechanism's instances come from: the task of its name, else the task of
+    the demonstration recording its fragment says it was extracted from."""
+    if name in TASKS:
+        return name
+    with open(fragment, encoding="utf-8") as handle:
+        found = DEMO_LINE.search(handle.read())
+    if found and found.group(1) in TASKS:
+        return found.group(1)
+    return None
+
+
+def groundings(task: StripsTask, mechanism: str) -> List[int]:
+    """Macro operators of `mechanism` applicable in the initial state, in a fixed order."""
+    out = [i for i, op in enumerate(task.operators)
+           if op.name == mechanism and op.steps and op.pre & task.init == op.pre and not op.neg & task.init]
+    return sorted(out, key=lambda i: task.operators[i].args)
+
+
+def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
+    """One self-play episode -> its arrays (see `episode_arrays`). Builds and closes its own world."""
+    instance_seed, planner_seed = episode_seeds(config.seed, episode)
+    rng = np.random.default_rng(planner_seed)
+    loaded = _domain(config.fragment)
+    mechanism = find_mechanism(loaded, config.mechanism)
+    instance = sample_instance(TASKS[config.task], "train", instance_seed)
+    problem = parse_text(instance.problem_text(), file=f"<{instance.name}>")
+    assert isinstance(problem, Problem)
+    task, placeholders = prepare_task(loaded, problem, use_mechanisms=True)
+    # Only the mechanism's own macros: the skeleton is fixed, so basis operators are not needed.
+    candidates = groundings(task, mechanism.name)
+    started = time.perf_counter()
+    with build_world(problem) as world:
+        settle_start(world)
+        start = world.snapshot()
+        if not candidates:
+            objects: Tuple[str, ...] = ()
+            log = None
+            values, units, timed_out = None, 0, False
+        else:
+            macro = task.operators[candidates[int(rng.integers(len(candidates)))]]
+            objects = tuple(macro.args)
+            steps = skeleton_steps(task, [task.operators.index(macro)])
+            log = SampleLog(world, objects, [[t.name for t in call.args] for call in mechanism.actions],
+                            [q.name for q in mechanism.parameters], placeholders)
+            sampler = StepSampler({s.name: s for s in loaded.domain.streams}, placeholders, Counter())
+            sampler.observers.append(log)
+            deadline = started + config.time_limit
+            sampler.deadline = deadline
+            search = Refinement(steps, start, world, task, sampler, np.random.default_rng(rng.integers(1 << 63)))
+            values = None
+            while values is None and not search.exhausted and search.effort < config.budget \
+                    and time.perf_counter() < deadline:
+                values = search.run(deadline, min(SLICE_UNITS, config.budget - search.effort))
+            units, timed_out = search.effort, values is None and time.perf_counter() >= deadline
+            log.label(values)
+        by_name = {o.name: o for o in instance.objects}
+        return episode_arrays(episode, instance_seed, planner_seed, values is not None, objects,
+                              [by_name[o].asset for o in objects], [by_name[o].scale for o in objects],
+                              log, units, timed_out, time.perf_counter() - started, len(candidates))
+
+
+def episode_arrays(episode: int, instance_seed: int, planner_seed: int, success: bool, objects, assets, scales,
+                   log: Optional[SampleLog], units: int, timed_out: bool, seconds: float,
+                   choices: int) -> Dict[str, np.ndarray]:
+    """The episode as flat arrays: per-episode fields prefixed `episode_`, one row per sample
+    for the rest (parents are sample indices within the episode, -1-padded)."""
+    samples = log.samples if log is not None else []
+    n, m = len(samples), len(objects)
+    value = np.full((n, VALUE_WIDTH), np.nan)
+    parents = np.full((n, MAX_PARENTS), -1, dtype=np.int64)
+    poses = np.zeros((n, m, 7))
+    for k, s in enumerate(samples):
+        value[k, :len(s.value)] = s.value
+        parents[k, :len(s.parents[-MAX_PARENTS:])] = s.parents[-MAX_PARENTS:]
+        poses[k] = s.poses
+    text = lambda xs: np.array(list(xs), dtype=str) if len(xs) else np.zeros(0, dtype="<U1")  # noqa: E731
+    return {
+        "episode_id": np.array([episode], dtype=np.int64),
+        "episode_instance_seed": np.array([instance_seed], dtype=np.int64),
+        "episode_planner_seed": np.array([planner_seed], dtype=np.int64),
+        "episode_success": np.array([success]),
+        "episode_objects": text(objects)[None, :] if m else np.zeros((1, 0), dtype="<U1"),
+        "episode_assets": text(assets)[None, :] if m else np.zeros((1, 0), dtype="<U1"),
+        "episode_scales": np.array([scales], dtype=float).reshape(1, m),
+        "episode_units": np.array([units], dtype=np.int64),
+        "episode_timed_out": np.array([timed_out]),
+        "episode_groundings": np.array([choices], dtype=np.int64),
+        "episode_seconds": np.array([seconds]),
+        "episode": np.full(n, episode, dtype=np.int64),
+        "sample": np.arange(n, dtype=np.int64),
+        "stream": text([s.stream for s in samples]),
+        "kind": text([s.kind for s in samples]),
+        "step": np.array([s.step for s in samples], dtype=np.int64),
+        "operator": text([s.operator for s in samples]),
+        "param": text([s.param for s in samples]),
+        "param_index": np.array([s.param_index for s in samples], dtype=np.int64),
+        "value": value,
+        "value_dim": np.array([len(s.value) for s in samples], dtype=np.int64),
+        "poses": poses,
+        "parents": parents,
+        "label": np.array([s.label for s in samples], dtype=np.int8),
+    }
+
+
+def default_fragment(name: str) -> str:
+    from .extract import MECHANISMS_DIR
+    return os.path.join(MECHANISMS_DIR, f"{name}.pddl")

@@ -1,0 +1,147 @@
+"""Self-play data collection (learning/selfplay*.py, `learn selfplay`): labels, context,
+determinism, resuming, workers, and the World's refusal to be pickled.
+
+A tiny configuration: the Center-of-Mass mechanism (two steps, ~1 s an episode), 3 episodes."""
+from __future__ import annotations
+
+import os
+import pickle
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from pdsketch_mech.learning.selfplay import SelfPlayConfig, default_fragment, episode_seeds, task_of
+from pdsketch_mech.learning.selfplay_record import VALUE_LAYOUT
+from pdsketch_mech.learning.selfplay_run import run_selfplay
+from pdsketch_mech.learning.selfplay_store import done_episodes, load_dataset, read_episode
+from pdsketch_mech.world.world import World
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CONFIG = SelfPlayConfig("com", default_fragment("com"), "com", seed=0, budget=60)
+
+
+def equal_data(a, b) -> None:
+    """The same arrays, except the measured wall-clock seconds."""
+    assert sorted(a) == sorted(b)
+    for key in a:
+        if key != "episode_seconds":
+            assert np.array_equal(a[key], b[key], equal_nan=a[key].dtype.kind == "f"), key
+
+
+@pytest.fixture(scope="module")
+def straight(tmp_path_factory):
+    """Three episodes in one run, in this process."""
+    folder = str(tmp_path_factory.mktemp("straight"))
+    run_selfplay(CONFIG, folder, 3)
+    return folder
+
+
+def test_labels_and_context(straight):
+    data = load_dataset(straight)
+    assert list(data["episode_id"]) == [0, 1, 2]
+    n = len(data["label"])
+    assert n > 0 and set(np.unique(data["label"])) <= {0, 1}
+    for e, success in zip(data["episode_id"], data["episode_success"]):
+        labels = data["label"][data["episode"] == e]
+        # a successful episode's plan used one value per mechanism variable, each labelled 1
+        assert (labels.sum() == 4) if success else (labels.sum() == 0)
+    assert data["episode_success"].any()
+    # every kind of value in its numeric layout, NaN-padded beyond it
+    for kind, dim, row in zip(data["kind"], data["value_dim"], data["value"]):
+        assert dim == len(VALUE_LAYOUT[str(kind)]) and not np.isnan(row[:3]).any() and np.isnan(row[dim:]).all()
+    assert set(data["kind"]) >= {"grasp", "placement", "trajectory"}
+    # context: the mechanism's objects as assets + scales, their poses, steps, variables, parents
+    m = data["episode_objects"].shape[1]
+    assert m == 3 and data["poses"].shape == (n, m, 7)
+    assert np.allclose(np.linalg.norm(data["poses"][..., 3:], axis=-1), 1.0, atol=1e-6)
+    assert all(str(a) for a in data["episode_assets"].ravel())  # asset names, e.g. "plate/0"
+    assert data["episode_scales"].shape == (3, m)
+    assert set(data["param"]) == {"?g", "?t1", "?p", "?t2"}
+    assert set(data["step"]) == {0, 1}
+    first = np.flatnonzero(data["param"] == "?t2")[0]
+    parents = data["parents"][first][data["parents"][first] >= 0]
+    assert [str(data["param"][k]) for k in parents] == ["?g", "?t1", "?p"]  # mechanism order
+    for e in range(3):
+        assert data["episode_instance_seed"][e] == episode_seeds(0, e)[0]
+
+
+def test_same_seed_same_data_and_resume(straight, tmp_path):
+    resumed = str(tmp_path / "resumed")
+    run_selfplay(CONFIG, resumed, 2)
+    ran = []
+    run_selfplay(CONFIG, resumed, 3, progress=lambda row: ran.append(row["episode"]))
+    assert ran == [2]  # only the missing episode runs
+    for e in range(3):
+        equal_data(read_episode(straight, e), read_episode(resumed, e))
+
+
+def test_interrupted_episode_leaves_nothing(tmp_path, monkeypatch):
+    """An episode killed in flight leaves no file (and no temporary one): a rerun redoes it."""
+    from pdsketch_mech.learning import selfplay_run
+
+    folder = str(tmp_path / "cut")
+    real = selfplay_run.run_episode
+
+    def interrupted(config, episode):
+        if episode == 1:
+            raise KeyboardInterrupt
+        return real(config, episode)
+    monkeypatch.setattr(selfplay_run, "run_episode", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        run_selfplay(CONFIG, folder, 3)
+    assert done_episodes(folder) == [0]
+    assert sorted(os.listdir(os.path.join(folder, "episodes"))) == ["e000000.npz"]
+
+
+def test_two_workers_give_the_same_data(straight, tmp_path):
+    folder = str(tmp_path / "workers")
+    run_selfplay(CONFIG, folder, 3, workers=2)
+    for e in range(3):
+        equal_data(read_episode(straight, e), read_episode(folder, e))
+
+
+def test_another_configuration_is_refused(straight):
+    from pdsketch_mech.learning.selfplay_store import StoreError
+
+    other = SelfPlayConfig("com", default_fragment("com"), "com", seed=1, budget=60)
+    with pytest.raises(StoreError, match="another configuration"):
+        run_selfplay(other, straight, 3)
+
+
+def test_pickling_a_world_is_an_error():
+    with World() as world:
+        with pytest.raises(TypeError, match="cannot be pickled"):
+            pickle.dumps(world)
+
+
+def test_task_of_a_mechanism():
+    assert task_of(default_fragment("com"), "com") == "com"
+    assert task_of(default_fragment("hook-use"), "hook-use") == "hook"
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["nope"], "no such file"),
+    (["com", "--backend", "ray"], "not yet"),
+    (["com", "--out", "/nonexistent-folder/x"], "does not exist"),
+    (["com", "--episodes", "0"], "must be a whole number >= 1"),
+])
+def test_cli_bad_input(argv, message):
+    result = subprocess.run([sys.executable, "-m", "pdsketch_mech.learn", "selfplay", *argv], cwd=ROOT,
+                            capture_output=True, text=True, env={**os.environ, "PYTHONPATH": ROOT})
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and result.stderr.startswith("error:") and message in result.stderr
+
+
+def test_cli_runs_and_resumes(tmp_path):
+    folder = tmp_path / "data"
+    command = [sys.executable, "-m", "pdsketch_mech.learn", "selfplay", "com", "--episodes", "1", "--budget", "60",
+               "--out", str(folder)]
+    env = {**os.environ, "PYTHONPATH": ROOT}
+    first = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, env=env)
+    assert first.returncode == 0, first.stderr
+    assert "1 episodes" in first.stderr.splitlines()[-1]
+    other = subprocess.run(command[:-2] + ["--seed", "5", "--out", str(folder)], cwd=ROOT, capture_output=True,
+                           text=True, env=env)
+    assert other.returncode == 2 and "another configuration" in other.stderr
