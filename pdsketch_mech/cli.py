@@ -13,7 +13,8 @@ import math
 import os
 import sys
 import tempfile
-from typing import Any, Callable, Dict, List, NoReturn, Optional, Sequence
+from contextlib import contextmanager
+from typing import IO, Any, Callable, Dict, Iterator, List, NoReturn, Optional, Sequence
 
 from . import process
 from .lang.errors import PddlError, PddlWarning, escape
@@ -113,6 +114,14 @@ def seed(text: str) -> int:
     return value
 
 
+def whole(text: str) -> int:
+    """A whole number >= 0."""
+    value = _integer(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 0, got {text!r}")
+    return value
+
+
 def count(text: str) -> int:
     """How many of something: a whole number >= 1."""
     value = _integer(text)
@@ -170,22 +179,37 @@ def _same_file(a: str, b: str) -> bool:
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-def write_json(path: str, document: Any) -> None:
-    """Write `document` atomically: a reader (or a crash) never sees half a file, and an
-    existing file is only replaced once the new one is complete."""
+@contextmanager
+def atomic_file(path: str, binary: bool = False, suffix: str = ".tmp") -> Iterator[IO]:
+    """A temporary file beside `path`, opened for writing, that replaces `path` when the block
+    ends without error (a reader, or a crash, never sees half a file; an existing file is
+    only replaced by a complete one) and is removed otherwise. Permissions as open() gives."""
     folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".json")
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=suffix)
     try:
         umask = os.umask(0)
         os.umask(umask)
         os.fchmod(fd, 0o666 & ~umask)  # as open() would create it, not mkstemp's 0600
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            json.dump(document, handle, indent=1)
-            handle.write("\n")
+        with (os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding="utf-8", newline="\n")) as handle:
+            yield handle
         os.replace(tmp, path)
     except BaseException:
-        os.unlink(tmp)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
         raise
+
+
+def write_text(path: str, text: str) -> None:
+    """Write `text` to `path` atomically (`atomic_file`)."""
+    with atomic_file(path) as handle:
+        handle.write(text)
+
+
+def write_json(path: str, document: Any) -> None:
+    """Write `document` atomically (`atomic_file`)."""
+    with atomic_file(path, suffix=".json") as handle:
+        json.dump(document, handle, indent=1)
+        handle.write("\n")
 
 
 def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: int,

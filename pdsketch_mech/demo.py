@@ -27,8 +27,7 @@ import sys
 import time
 from typing import Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, run
-from .envs.__main__ import OneLineParser, seed_value
+from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, run, whole
 from .world.asset_index import REPO_ROOT
 
 DEMOS_DIR = os.path.join(REPO_ROOT, "domains", "mechanisms", "demos")
@@ -155,11 +154,11 @@ def list_demos(args) -> int:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = OneLineParser(prog="python -m pdsketch_mech.demo", description=__doc__.split("\n\n")[0])
-    commands = parser.add_subparsers(dest="command", parser_class=OneLineParser)
+    parser = ArgumentParser(prog="python -m pdsketch_mech.demo", description=__doc__.split("\n\n")[0])
+    commands = parser.add_subparsers(dest="command", parser_class=ArgumentParser)
     rec = commands.add_parser("record", help="run and record a scripted demonstration")
     rec.add_argument("name", metavar="NAME", help="the demonstration (a task name)")
-    rec.add_argument("--seed", type=seed_value, help="perturb the canonical instance's poses with this seed")
+    rec.add_argument("--seed", type=whole, help="perturb the canonical instance's poses with this seed")
     rec.add_argument("--split", default="train", choices=("train", "test"))
     rec.add_argument("--variant", choices=("distractor-push",),
                      help="record a variant of the demo (distractor-push: push an extra block aside first)")
@@ -171,7 +170,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     sh.add_argument("file", metavar="FILE", help="a recording (NAME.npz, NAME.json or NAME)")
     sh.add_argument("--render", metavar="FILE.gif")
     sh.add_argument("--strip", metavar="FILE.png")
-    sh.add_argument("--every", type=seed_value, default=8, help="GIF: every K-th recorded frame (default 8)")
+    sh.add_argument("--every", type=whole, default=8, help="GIF: every K-th recorded frame (default 8)")
     commands.add_parser("list", help="list the demonstrations")
     args = parser.parse_args(argv)
     if args.command is None:

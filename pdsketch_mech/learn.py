@@ -27,7 +27,10 @@ import sys
 import time
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit, seconds, seed
+from .cli import (
+    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit, seconds,
+    seed, write_text,
+)
 from .lang.errors import PddlError, escape
 
 NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
@@ -105,7 +108,7 @@ def extract_command(args) -> int:
 
 
 def _extract(args, recording, name: str, out: str, command: str) -> int:
-    from .learning.extract import check_fragment, extract, fragment_text, write_atomically
+    from .learning.extract import check_fragment, extract, fragment_text
     from .learning.steps import ExtractionError
     from .learning.timeline import timeline_text
 
@@ -132,7 +135,7 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
             why = _what_differs(out, existing_text, text, fragment)
             return _fail(f"{os.path.relpath(out)} exists and differs: {why} (use --force to replace it)")
     if status == "wrote":
-        write_atomically(out, text)
+        write_text(out, text)
     steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)
     print(f"{status} {os.path.relpath(out)}: mechanism {name}, {len(extraction.explanation.steps)} steps {steps}; "
           f"{time.perf_counter() - start:.1f} s", file=sys.stderr)

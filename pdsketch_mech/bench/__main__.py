@@ -14,7 +14,7 @@ from typing import List, Optional, Sequence
 
 from ..cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit,
-    seconds, seed, write_json,
+    seconds, seed, whole, write_json,
 )
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
@@ -117,17 +117,6 @@ def run_plan_command(args: argparse.Namespace) -> int:
         with open(args.json, "w", encoding="utf-8") as handle:
             json.dump([asdict(r) for r in runs], handle, indent=1)
     return EXIT_OK
-
-
-def whole(text: str) -> int:
-    """A whole number >= 0."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be a whole number >= 0, got {text!r}")
-    return value
 
 
 def _write_document(path: Optional[str], document) -> None:

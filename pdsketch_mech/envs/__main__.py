@@ -6,46 +6,19 @@ The same task, split and seed always give the same bytes. Exit 0, or 2 with one
 """
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 from typing import Optional, Sequence
 
-from ..cli import EXIT_BAD_INPUT, EXIT_OK, run
-
-
-class OneLineParser(argparse.ArgumentParser):
-    """argparse, but a bad command line is one `error: ...` line and exit 2 (no usage block)."""
-
-    def error(self, message: str):  # type: ignore[override]
-        self.exit(EXIT_BAD_INPUT, f"error: {message}\n")
-
-
-def seed_value(text: str) -> int:
-    """A seed: a whole number >= 0 (numpy's generators take no negative seeds)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be a whole number >= 0, got {text!r}")
-    return value
-
-
-def _write(path: str, text: str) -> None:
-    """Write `text` to `path` atomically (a temporary name in the same folder, then a rename)."""
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
-        handle.write(text)
-    os.replace(tmp, path)
+from ..cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, run, whole, write_text
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     from .tasks import TASKS
 
-    parser = OneLineParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
+    parser = ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
     parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}")
-    parser.add_argument("--seed", type=seed_value, help="which instance (a whole number >= 0)")
+    parser.add_argument("--seed", type=whole, help="which instance (a whole number >= 0)")
     parser.add_argument("--split", default="train", choices=("train", "test"), help="asset split (default train)")
     parser.add_argument("--canonical", action="store_true",
                         help="the canonical instance: first train assets at their canonical poses")
@@ -76,7 +49,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     instance = sample(TASKS[args.task], args.split, args.seed, vary_assets=not args.canonical_assets)
     text = instance.problem_text()
     if args.out:
-        _write(args.out, text)
+        write_text(args.out, text)
         print(f"wrote {args.out}: {instance.name}", file=sys.stderr)
     else:
         sys.stdout.write(text)

@@ -8,34 +8,13 @@ from __future__ import annotations
 
 from typing import Dict, List, Optional
 
-from ..lang.nodes import And, Atom, Const, Equals, Formula, Mechanism, Not, Var
+from ..lang.nodes import And, Formula, Mechanism, Var
 from ..lang.writer import formula as formula_text
-from ..symbolic.normalize import substitute
+from .lifting import rename_terms
 
 
 def _conjuncts(f: Formula) -> List[Formula]:
     return list(f.parts) if isinstance(f, And) else [f]
-
-
-def _rename(f: Formula, mapping: Dict[str, str]) -> Formula:
-    # `substitute` turns variables into constants; turn them back into variables by name.
-    renamed = substitute(f, mapping)
-    return _consts_to_vars(renamed, set(mapping.values()))
-
-
-def _consts_to_vars(f: Formula, names: set) -> Formula:
-    def term(t):
-        return Var(t.name) if isinstance(t, Const) and t.name in names else t
-
-    if isinstance(f, Atom):
-        return Atom(f.predicate, tuple(term(a) for a in f.args))
-    if isinstance(f, Equals):
-        return Equals(term(f.left), term(f.right))
-    if isinstance(f, Not):
-        return Not(_consts_to_vars(f.body, names))
-    if hasattr(f, "parts"):
-        return type(f)(tuple(_consts_to_vars(p, names) for p in f.parts))
-    return f
 
 
 def correspondence(a: Mechanism, b: Mechanism) -> Optional[Dict[str, str]]:
@@ -83,13 +62,13 @@ def differences(existing: Mechanism, new: Mechanism) -> List[str]:
     if types_a != types_b:
         out.append("the parameters (after renaming): "
                    f"{' '.join(f'{n} - {t}' for n, t in types_a)} vs {' '.join(f'{n} - {t}' for n, t in types_b)}")
-    pre_a = {formula_text(f) for f in _conjuncts(_rename(existing.precondition, mapping))}
+    pre_a = {formula_text(f) for f in _conjuncts(rename_terms(existing.precondition, mapping))}
     pre_b = {formula_text(f) for f in _conjuncts(new.precondition)}
     if pre_a - pre_b:
         out.append(f"the precondition: only the existing fragment has {' '.join(sorted(pre_a - pre_b))}")
     if pre_b - pre_a:
         out.append(f"the precondition: only the extracted one has {' '.join(sorted(pre_b - pre_a))}")
-    cert_a, cert_b = _rename(existing.certified, mapping), new.certified
+    cert_a, cert_b = rename_terms(existing.certified, mapping), new.certified
     if {formula_text(f) for f in _conjuncts(cert_a)} != {formula_text(f) for f in _conjuncts(cert_b)}:
         out.append(f"the certified effect: {formula_text(cert_a)} vs {formula_text(cert_b)}")
     if existing.sampler != new.sampler:

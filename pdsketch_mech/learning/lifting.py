@@ -121,21 +121,25 @@ def _number(kinds: Sequence[Tuple[Hashable, str]]) -> Dict[Hashable, str]:
     return out
 
 
-def _formula_vars(f: Formula, names: Dict[str, str]) -> Formula:
-    """`f` with object constants replaced by their variables."""
+def rename_terms(f: Formula, names: Dict[str, str], strict: bool = False) -> Formula:
+    """`f` with every constant or variable whose name is in `names` replaced by the variable
+    `names[name]`. With `strict`, a formula other than atoms, equalities, negations and
+    conjunctions/disjunctions is an error (extraction lifts only those)."""
     def term(t: Term) -> Term:
-        return Var(names[t.name]) if isinstance(t, Const) and t.name in names else t
+        return Var(names[t.name]) if isinstance(t, (Const, Var)) and t.name in names else t
 
     if isinstance(f, Atom):
         return Atom(f.predicate, tuple(term(a) for a in f.args))
     if isinstance(f, Equals):
         return Equals(term(f.left), term(f.right))
     if isinstance(f, Not):
-        return Not(_formula_vars(f.body, names))
+        return Not(rename_terms(f.body, names, strict))
     if hasattr(f, "parts"):
-        return type(f)(tuple(_formula_vars(p, names) for p in f.parts))
-    raise ValueError(f"cannot lift a goal with {type(f).__name__}: extraction lifts conjunctions, "
-                     "disjunctions and negations of atoms")
+        return type(f)(tuple(rename_terms(p, names, strict) for p in f.parts))
+    if strict:
+        raise ValueError(f"cannot lift a goal with {type(f).__name__}: extraction lifts conjunctions, "
+                         "disjunctions and negations of atoms")
+    return f
 
 
 def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, name: str) -> Lifted:
@@ -185,7 +189,7 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
     for i, a in enumerate(moved):
         for b in moved[i + 1:]:
             pre.append(Not(Equals(Var(variables[a]), Var(variables[b]))))
-    certified = _formula_vars(goal, by_name)
+    certified = rename_terms(goal, by_name, strict=True)
     parameters = tuple(TypedName(variables[o], OBJECT_TYPE) for o in order) + tuple(value_params)
     mechanism = Mechanism(name, parameters, And(tuple(pre)) if len(pre) != 1 else pre[0], certified, tuple(calls))
     return Lifted(mechanism, {o: variables[o] for o in order}, why)

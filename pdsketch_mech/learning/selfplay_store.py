@@ -15,12 +15,11 @@ import glob
 import json
 import os
 import re
-import tempfile
 from typing import Dict, Iterable, List, Optional
 
 import numpy as np
 
-from ..cli import write_json
+from ..cli import atomic_file, write_json
 
 SCHEMA = "pdsketch_mech.selfplay/1"
 EPISODE_FILE = re.compile(r"^e(\d{6,})\.npz$")
@@ -44,20 +43,10 @@ def write_episode(folder: str, arrays: Dict[str, np.ndarray]) -> str:
     """Write one episode's arrays atomically (temporary file + rename)."""
     path = episode_path(folder, int(arrays["episode_id"][0]))
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".tmp-", suffix=".npz")
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)  # as open() would create it, not mkstemp's 0600
-        with os.fdopen(fd, "wb") as handle:
-            np.savez_compressed(handle, **arrays)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with atomic_file(path, binary=True, suffix=".npz") as handle:
+        np.savez_compressed(handle, **arrays)
+        handle.flush()
+        os.fsync(handle.fileno())
     return path
 
 
