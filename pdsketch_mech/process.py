@@ -108,12 +108,24 @@ def _on_interrupt(signum, frame) -> None:
     if _interrupted.is_set():
         return  # a second Ctrl-C: the watchdog is already counting
     _interrupted.set()
-    if not _in_main.is_set():
+    # Before main, or while a module is being imported, end at once: an exception raised into
+    # a native extension's initialisation (PyBullet, OMPL) aborts the process (SIGABRT)
+    # instead of unwinding, and an import holds nothing of the user's.
+    if not _in_main.is_set() or _importing(frame):
         _force_exit()
     watchdog = threading.Timer(GRACE, _force_exit)
     watchdog.daemon = True
     watchdog.start()
     raise KeyboardInterrupt
+
+
+def _importing(frame) -> bool:
+    """Is the interrupted code inside an import (a frame of importlib's bootstrap)?"""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _force_exit() -> None:

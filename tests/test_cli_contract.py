@@ -177,3 +177,16 @@ def test_ctrl_c_ends_a_run_with_130(delay):
 @pytest.mark.parametrize("delay", [0.2, 0.5, 0.8, 1.0, 1.2, 2.0, 4.0])
 def test_ctrl_c_at_any_moment_ends_a_run_within_half_a_second(delay):
     check_interrupted(delay)
+
+
+def test_an_interrupt_during_an_import_is_recognised(tmp_path, monkeypatch):
+    """Ctrl-C while a module is being imported exits at once instead of raising into the
+    import (raised into a native extension's initialisation, it aborted with SIGABRT: seen
+    once in CI at 0.2 s into `plan` on a fresh clone)."""
+    import importlib
+    (tmp_path / "probe_import.py").write_text(
+        "import sys\nfrom pdsketch_mech import process\nINSIDE = process._importing(sys._getframe())\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    sys.modules.pop("probe_import", None)
+    assert importlib.import_module("probe_import").INSIDE is True
+    assert process._importing(sys._getframe()) is False
