@@ -14,7 +14,13 @@ all (EXPONENT = 1): the Hook task's basis-only tool-use skeleton (the 26th) is r
 after ~400 units, while the first skeletons keep the larger share. Measured on the Hook
 task: EXPONENT = 1/2 reaches deep skeletons sooner but starves the hook-use mechanism's
 skeleton (167 s instead of 65 s, seed 0); 3/2 starves the deep ones (basis-only unsolved
-in 90 s; 61 s with 1). Work is counted in units (samples drawn
+in 90 s; 61 s with 1). ENTRY sets how fast new skeletons come: skeleton 1's share of the
+work is about 1 / ln N whatever ENTRY is, so a smaller ENTRY reaches deep skeletons sooner
+at a small cost to the first ones. Measured (one process per core): the 5-step two-poke
+skeleton (#107 on a long-tunnel poking problem) is created at 181 s with ENTRY 4, 121 s
+with 2, 105 s with 1.5; the Hook task's basis-only tool-use skeleton (#26) at 24-30 s
+with 4, 16-21 s with 2; the hook-use mechanism solves Hook in a median 17 / 20 / 19 s
+(5 seeds). Work is counted in units (samples drawn
 and simulated, samplers running dry), never in seconds: the same seed gives the same plan
 whatever the machine's load.
 """
@@ -22,7 +28,7 @@ from __future__ import annotations
 
 from typing import Iterable, Optional, Tuple
 
-ENTRY = 4           # work units a new skeleton is worth before it starts
+ENTRY = 1.5         # work units a new skeleton is worth before it starts
 EXPONENT = 1.0
 SLICE = 4           # work units per turn
 
