@@ -1,4 +1,4 @@
-"""`python -m pdsketch_mech.learn extract|selfplay`: demonstrations -> mechanisms -> sampler data.
+"""`python -m pdsketch_mech.learn extract|selfplay|train`: demonstrations -> mechanisms -> learned samplers.
 
     extract DEMO [--name NAME] [--out FILE.pddl] [--render FILE.png] [--force]
         Segment the recording DEMO (NAME.npz, NAME.json or NAME) by contact modes, map the
@@ -14,6 +14,12 @@
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
         out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped.
+    train NAME [selfplay's options] [--epochs E] [--checkpoint FILE]
+        Self-play as above (only the episodes not on disk yet), then train a classifier per
+        grasp, contact and placement parameter on every episode on disk, and write the
+        checkpoint (default domains/mechanisms/NAME.samplers.safetensors), its .json
+        metadata, a report (.md and .png beside it), and point the fragment's `:sampler` at
+        the checkpoint.
 
 Exit status: 0 written (or already up to date), 1 the demonstration cannot be turned into a
 mechanism (e.g. cut off before its goal holds) or no self-play episode succeeded, 2 bad
@@ -21,6 +27,7 @@ input (one `error:` line).
 """
 from __future__ import annotations
 
+import importlib.util
 import os
 import re
 import sys
@@ -50,7 +57,20 @@ def _parser() -> ArgumentParser:
     ext.add_argument("--out", metavar="FILE.pddl", help="where to write (default domains/mechanisms/NAME.pddl)")
     ext.add_argument("--render", metavar="FILE.png", help="draw the timeline under key frames")
     ext.add_argument("--force", action="store_true", help="replace an existing fragment that differs")
-    play = commands.add_parser("selfplay", help="self-play data of mechanism NAME (labelled samples)")
+    commands.add_parser("selfplay", parents=[_selfplay_options()],
+                        help="self-play data of mechanism NAME (labelled samples)")
+    train = commands.add_parser("train", parents=[_selfplay_options()], add_help=False,
+                                help="self-play, then train mechanism NAME's samplers -> checkpoint + report")
+    train.add_argument("-h", "--help", action="help", help="show this help message and exit")
+    train.add_argument("--epochs", type=count, default=None, help="training epochs per parameter (default 60)")
+    train.add_argument("--checkpoint", metavar="FILE", help="where to write the weights "
+                       "(default domains/mechanisms/NAME.samplers.safetensors)")
+    return parser
+
+
+def _selfplay_options() -> ArgumentParser:
+    """The options `selfplay` and `train` share."""
+    play = ArgumentParser(add_help=False)
     play.add_argument("name", metavar="NAME", help="the mechanism (domains/mechanisms/NAME.pddl)")
     play.add_argument("--episodes", type=count, default=100, help="episodes 0..N-1 (default 100)")
     play.add_argument("--seed", type=seed, default=0, help="base seed: episode i uses seeds of (S, i) (default 0)")
@@ -62,8 +82,9 @@ def _parser() -> ArgumentParser:
                       help="seconds per episode, a safety net (default 300)")
     play.add_argument("--fragment", metavar="FILE", help="the mechanism's fragment (default domains/mechanisms/NAME.pddl)")
     play.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's)")
-    play.add_argument("--backend", choices=("local", "ray"), default="local", help="local processes (ray: not yet)")
-    return parser
+    play.add_argument("--backend", choices=("local", "ray"), default="local",
+                      help="local: K processes; ray: K Ray tasks at a time (a local instance, or RAY_ADDRESS's cluster)")
+    return play
 
 
 def _command_line(demo: str, name: str, out: str, default_out: str) -> str:
@@ -190,11 +211,52 @@ def _render(extraction, path: str) -> List[int]:
 
 
 def selfplay_command(args) -> int:
+    prepared = _prepare_selfplay(args)
+    if isinstance(prepared, int):
+        return prepared
+    config, out, _ = prepared
+    return _selfplay(args, config, out)
+
+
+def train_command(args) -> int:
+    from .learning.train_command import checkpoint_for, default_config, train_and_save
+    from .learning.selfplay_store import StoreError
+
+    prepared = _prepare_selfplay(args)
+    if isinstance(prepared, int):
+        return prepared
+    config, out, mechanism = prepared
+    checkpoint = args.checkpoint or checkpoint_for(config.fragment, mechanism.name)
+    if not checkpoint.endswith(".safetensors"):
+        return _fail(f"--checkpoint {checkpoint}: the weights file's name must end in .safetensors")
+    error = output_error(checkpoint, "--checkpoint", (config.fragment,), (".safetensors",))
+    if error is not None:
+        return _fail(error.message)
+    started = time.perf_counter()
+    status = _selfplay(args, config, out)
+    selfplay_s = time.perf_counter() - started
+    if status != EXIT_OK:
+        return status
+    from .learning.selfplay_store import open_folder
+    command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(args.episodes),
+                        "--seed", str(args.seed), "--budget", str(args.budget)]
+                       + (["--epochs", str(args.epochs)] if args.epochs is not None else []))
+    info = {"command": command, "task": config.task, "seconds_selfplay": selfplay_s}
+    try:
+        trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
+                                 default_config(args.epochs, args.seed), open_folder(out, config.identity()), info)
+    except StoreError as exc:
+        return _fail(str(exc))
+    return EXIT_OK if trained else EXIT_UNSOLVED
+
+
+def _prepare_selfplay(args):
+    """(config, data folder, mechanism) for `selfplay` and `train`, or an exit status."""
     from .learning.selfplay import SelfPlayConfig, default_fragment, find_mechanism, task_of, _domain
     from .learning.selfplay_store import StoreError, open_folder
 
-    if args.backend == "ray":
-        return _fail("--backend ray: not yet (self-play runs in local processes: --workers K)")
+    if args.backend == "ray" and importlib.util.find_spec("ray") is None:
+        return _fail("--backend ray: ray is not installed (pip install -e '.[ray]')")
     if not NAME.match(args.name):
         return _fail(f"{args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
     fragment = args.fragment or default_fragment(args.name)
@@ -230,7 +292,7 @@ def selfplay_command(args) -> int:
         return _fail(f"--out {out}: cannot create: {exc.strerror}")
     if not os.access(out, os.W_OK):
         return _fail(f"--out {out}: is not writable")
-    return _selfplay(args, config, out)
+    return config, out, mechanism
 
 
 def _selfplay(args, config, out: str) -> int:
@@ -250,7 +312,7 @@ def _selfplay(args, config, out: str) -> int:
             rate = counts["samples"] / max(1e-9, time.perf_counter() - start)
             bar.set_postfix_str(f"{counts['successes']} succeeded, {rate:.1f} samples/s")
             bar.update(1)
-        manifest = run_selfplay(config, out, args.episodes, args.workers, progress, command)
+        manifest = run_selfplay(config, out, args.episodes, args.workers, progress, command, args.backend)
     totals = manifest["totals"]
     size = sum(os.path.getsize(os.path.join(root, f)) for root, _, files in os.walk(out) for f in files)
     share = 100.0 * totals["successes"] / max(1, totals["episodes"])
@@ -263,8 +325,8 @@ def _selfplay(args, config, out: str) -> int:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     args = _parser().parse_args(argv)
     if args.command is None:
-        return _fail("give a command: extract, selfplay")
-    return {"extract": extract_command, "selfplay": selfplay_command}[args.command](args)
+        return _fail("give a command: extract, selfplay, train")
+    return {"extract": extract_command, "selfplay": selfplay_command, "train": train_command}[args.command](args)
 
 
 if __name__ == "__main__":

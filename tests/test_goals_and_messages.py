@@ -101,11 +101,12 @@ def test_a_missing_sampler_checkpoint_is_a_located_error(write_files, capsys):
     assert err.startswith(f"{fragment}:3:3: error: mechanism 'grab-other': :sampler file 'grab.pt' not found")
 
 
-def test_a_learned_sampler_that_cannot_be_used_is_reported_unless_declined(write_files, capsys):
+def test_a_checkpoint_that_cannot_be_loaded_stops_the_plan_unless_declined(write_files, capsys):
     fragment, _, problem_path = write_files(**{
-        "grab.pddl": MECHANISM.format(basis=BASIS, sampler='\n    :sampler "grab.pt"'),
-        "grab.pt": "not a real checkpoint", "p.pddl": TWO_BLOCKS})
-    assert plan.main([fragment, problem_path, "--timeout", "60"]) == 0
-    assert "warning: mechanism 'grab-other' names the learned sampler \"grab.pt\"" in capsys.readouterr().err
+        "grab.pddl": MECHANISM.format(basis=BASIS, sampler='\n    :sampler "grab.samplers.safetensors"'),
+        "grab.samplers.safetensors": "not a real checkpoint", "p.pddl": TWO_BLOCKS})
+    assert plan.main([fragment, problem_path, "--timeout", "60"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: ") and "grab.samplers.json: not found" in err and len(err.splitlines()) == 1
     assert plan.main([fragment, problem_path, "--timeout", "60", "--no-learned-samplers"]) == 0
-    assert "learned sampler" not in capsys.readouterr().err
+    assert "error" not in capsys.readouterr().err

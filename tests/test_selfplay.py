@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from pdsketch_mech.learning.selfplay import SelfPlayConfig, default_fragment, episode_seeds, task_of
-from pdsketch_mech.learning.selfplay_record import VALUE_LAYOUT
+from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
 from pdsketch_mech.learning.selfplay_run import run_selfplay
 from pdsketch_mech.learning.selfplay_store import done_episodes, load_dataset, read_episode
 from pdsketch_mech.world.world import World
@@ -102,6 +102,15 @@ def test_two_workers_give_the_same_data(straight, tmp_path):
         equal_data(read_episode(straight, e), read_episode(folder, e))
 
 
+@pytest.mark.slow
+def test_ray_backend_gives_the_same_data(straight, tmp_path):
+    pytest.importorskip("ray")  # the `test` extra installs it; a user's plain install may not
+    folder = str(tmp_path / "ray")
+    run_selfplay(CONFIG, folder, 3, workers=2, backend="ray")
+    for e in range(3):
+        equal_data(read_episode(straight, e), read_episode(folder, e))
+
+
 def test_another_configuration_is_refused(straight):
     from pdsketch_mech.learning.selfplay_store import StoreError
 
@@ -123,7 +132,8 @@ def test_task_of_a_mechanism():
 
 @pytest.mark.parametrize("argv, message", [
     (["nope"], "no such file"),
-    (["com", "--backend", "ray"], "not yet"),
+    (["com", "--backend", "dask"], "invalid choice"),
+    (["com", "--task", "juggling"], "unknown task"),
     (["com", "--out", "/nonexistent-folder/x"], "does not exist"),
     (["com", "--episodes", "0"], "must be a whole number >= 1"),
 ])

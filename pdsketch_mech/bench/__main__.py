@@ -14,7 +14,7 @@ from typing import List, Optional, Sequence
 
 from ..cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit,
-    seconds, seed, whole, write_json,
+    seconds, seed, whole, write_json, write_text,
 )
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
@@ -198,6 +198,33 @@ def run_reach_command(args: argparse.Namespace) -> int:
     return EXIT_UNSOLVED if any(item.run.status == "invalid" for item in items) else EXIT_OK
 
 
+def run_samplers_command(args: argparse.Namespace) -> int:
+    """`samplers`: a mechanism's learned samplers against its generic ones on test instances."""
+    from . import samplers
+    from ..learning.selfplay import default_fragment, task_of
+
+    fragment = args.fragment or default_fragment(args.name)
+    if not os.path.isfile(fragment):
+        raise ipc.BenchError(f"{fragment}: no such file")
+    _check_domain(fragment)
+    task = args.task or task_of(fragment, args.name)
+    if task is None:
+        raise ipc.BenchError(f"{args.name}: no task distribution of that name or of its demonstration; give --task")
+    keep = _keep_folder(args.keep)
+    trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep)
+    header, cells, lines = samplers.table(trials)
+    print(render_text(header, cells, lines), end="")
+    if args.markdown:
+        write_text(args.markdown, render_markdown(header, cells, lines))
+    if args.plot:
+        samplers.plot(trials, args.plot, f"mechanism {args.name}: generic vs learned samplers, "
+                                         f"{args.instances} {args.split} instances")
+    _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,
+                                "instances": args.instances, "seed": args.seed, "timeout_s": args.timeout,
+                                "trials": [asdict(t) for t in trials], "lines": lines})
+    return EXIT_UNSOLVED if any(t.status == "invalid" for t in trials) else EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser, one sub-parser per benchmark."""
     parser = ArgumentParser(prog="python -m pdsketch_mech.bench", description="Planner benchmarks.")
@@ -264,6 +291,20 @@ def build_parser() -> argparse.ArgumentParser:
     reach.add_argument("--keep", metavar="DIR", help="keep the plan JSONs here (default: a temp folder)")
     reach.add_argument("--json", metavar="FILE", help="write every run and the figures as JSON")
     reach.set_defaults(func=run_reach_command)
+    learned = commands.add_parser("samplers", help="a mechanism's learned samplers vs its generic ones (Macro+Sampler "
+                                                   "vs Macro) on test instances")
+    learned.add_argument("name", metavar="NAME", help="the mechanism (domains/mechanisms/NAME.pddl)")
+    learned.add_argument("--instances", type=count, default=10, metavar="N", help="instances (default 10)")
+    learned.add_argument("--split", choices=("train", "test"), default="test", help="(default test)")
+    learned.add_argument("--seed", type=seed, default=0, metavar="S", help="instance seeds S..S+N-1 (default 0)")
+    learned.add_argument("--timeout", type=seconds, default=120.0, metavar="S", help="seconds per run (default 120)")
+    learned.add_argument("--fragment", metavar="FILE", help="the fragment (default domains/mechanisms/NAME.pddl)")
+    learned.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's)")
+    learned.add_argument("--keep", metavar="DIR", help="keep the problems and plan JSONs here (default: a temp folder)")
+    learned.add_argument("--json", metavar="FILE", help="write every trial and the figures as JSON")
+    learned.add_argument("--markdown", metavar="FILE", help="write the table as markdown")
+    learned.add_argument("--plot", metavar="FILE.png", help="per-sampler breakdown, generic vs learned (Fig. 8)")
+    learned.set_defaults(func=run_samplers_command)
     return parser
 
 

@@ -54,18 +54,19 @@ class Outcome:
 
 
 def plan_command(domain: str, problem: str, seed: int, timeout: float, out: str,
-                 basis_only: bool = False) -> List[str]:
+                 basis_only: bool = False, extra: Sequence[str] = ()) -> List[str]:
     command = [sys.executable, "-m", "pdsketch_mech.plan", domain, problem, "--seed", str(seed),
                "--timeout", str(timeout), "--json", out]
-    return command + (["--basis-only"] if basis_only else [])
+    return command + (["--basis-only"] if basis_only else []) + list(extra)
 
 
-def plan_once(domain: str, problem: str, seed: int, timeout: float, out: str, basis_only: bool = False) -> Outcome:
+def plan_once(domain: str, problem: str, seed: int, timeout: float, out: str, basis_only: bool = False,
+              extra: Sequence[str] = ()) -> Outcome:
     """Run the planner in its own process, writing its JSON to `out`; killed `OVERRUN` s late."""
     if os.path.exists(out):
         os.unlink(out)  # a stale document from an earlier run must not be read as this one's
     try:
-        done = subprocess.run(plan_command(domain, problem, seed, timeout, out, basis_only),
+        done = subprocess.run(plan_command(domain, problem, seed, timeout, out, basis_only, extra),
                               capture_output=True, text=True, timeout=timeout + OVERRUN)
         code, stderr = done.returncode, done.stderr
     except subprocess.TimeoutExpired as expired:

@@ -43,7 +43,7 @@ def write_domain(domain: Domain) -> str:
     for stream in domain.streams:
         out.append(_stream(stream))
     for mechanism in domain.mechanisms:
-        out.append(_mechanism(mechanism))
+        out.append(write_mechanism(mechanism))
     return "\n".join(out) + ")\n"
 
 
@@ -154,7 +154,8 @@ def _stream(stream: Stream) -> str:
     return _properties(f":stream {stream.name}", props)
 
 
-def _mechanism(mechanism: Mechanism) -> str:
+def write_mechanism(mechanism: Mechanism) -> str:
+    """One mechanism's definition as it appears in a domain file."""
     steps = "".join(
         f"\n      ({_join(c.name, ' '.join(term(a) for a in c.args))})" for c in mechanism.actions)
     props = [f":parameters ({typed_list(mechanism.parameters)})",

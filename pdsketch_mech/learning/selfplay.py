@@ -35,7 +35,8 @@ from ..planner.execute import settle_start
 from ..planner.refine import Refinement, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
-from .selfplay_record import MAX_PARENTS, VALUE_WIDTH, SampleLog
+from ..samplers.learned.encoding import VALUE_WIDTH
+from .selfplay_record import MAX_PARENTS, SampleLog
 
 SLICE_UNITS = 16  # work units per call of the refinement: only how often the deadline is looked at
 

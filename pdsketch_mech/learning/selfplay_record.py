@@ -9,52 +9,15 @@ identity: the plan holds the very objects the samplers yielded), 0 for all other
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
 from ..samplers.interface import SampleRequest
-from ..samplers.types import Contact, Grasp, Placement, Trajectory
+from ..samplers.learned.encoding import encode_value, pose_array
 from ..world.world import World
 
-VALUE_WIDTH = 16      # columns of the `value` array (NaN-padded; `value_dim` says how many are used)
 MAX_PARENTS = 12      # columns of the `parents` array (-1-padded)
-
-# The numeric form of each kind of value, column by column (README "Self-play" repeats it).
-VALUE_LAYOUT: Dict[str, Tuple[str, ...]] = {
-    "grasp": ("x", "y", "z", "qx", "qy", "qz", "qw", "width"),  # gripper pose in the object's frame
-    "contact": ("px", "py", "pz", "pqx", "pqy", "pqz", "pqw",  # pusher pose, world frame
-                "cx", "cy", "cz", "nx", "ny", "nz", "dx", "dy", "dz"),  # point, normal, direction
-    "placement": ("x", "y", "z", "qx", "qy", "qz", "qw"),  # the object's world pose
-    "trajectory": ("q0", "q1", "q2", "q3", "q4", "q5", "q6",  # joints at the end of the final segment
-                   "x", "y", "z", "qx", "qy", "qz", "qw",  # the gripper (TCP) pose there, world frame
-                   "push"),  # push distance (NaN when not a push)
-}
-
-
-def pose_array(pose) -> List[float]:
-    (x, y, z), (qx, qy, qz, qw) = pose
-    return [x, y, z, qx, qy, qz, qw]
-
-
-def encode_value(world: World, value: object) -> Tuple[str, np.ndarray]:
-    """(kind, numbers) for a sampler's value; the layout is VALUE_LAYOUT[kind]."""
-    if isinstance(value, Grasp):
-        return "grasp", np.array(pose_array(value.in_object) + [value.width])
-    if isinstance(value, Contact):
-        return "contact", np.array(pose_array(value.pusher_pose) + list(value.point) + list(value.normal)
-                                   + list(value.direction))
-    if isinstance(value, Placement):
-        return "placement", np.array(pose_array(value.pose))
-    if isinstance(value, Trajectory):
-        # The end of the final segment is where the trajectory acts (the grasp, the placement,
-        # the push's end); the retreat after it carries no choice.
-        ends = [part for part in (value.final, value.approach) if len(part)]
-        q = np.asarray(ends[0][-1], dtype=float) if ends else np.full(7, np.nan)
-        tcp = pose_array(world.kinematics.fk(q)) if ends else [np.nan] * 7
-        push = np.nan if value.push_distance is None else float(value.push_distance)
-        return "trajectory", np.concatenate([q, tcp, [push]])
-    raise TypeError(f"self-play cannot record a value of type {type(value).__name__}")
 
 
 @dataclass

@@ -5,6 +5,10 @@ inherited from a fork) and are sent the picklable `SelfPlayConfig` and episode i
 builds its own worlds. Results come back as arrays and this process writes them, one file
 per episode, so what is on disk never depends on which worker ran what: episode i's data
 are a function of (config, i) alone, for K = 1 and K = 2 alike.
+
+With the Ray backend (`--backend ray`, the optional `ray` extra) episodes are Ray tasks
+instead: `ray.init(num_cpus=K)` starts a local instance, or joins the cluster that
+`RAY_ADDRESS` names; the results are the same arrays, written the same way.
 """
 from __future__ import annotations
 
@@ -47,7 +51,29 @@ def _work(job) -> Dict[str, np.ndarray]:
     return run_episode(config, episode)
 
 
-def _results(config: SelfPlayConfig, todo: Sequence[int], workers: int) -> Iterator[Dict[str, np.ndarray]]:
+def _ray_results(config: SelfPlayConfig, todo: Sequence[int], workers: int) -> Iterator[Dict[str, np.ndarray]]:
+    import ray
+    started_here = not ray.is_initialized()
+    if started_here:
+        ray.init(num_cpus=None if os.environ.get("RAY_ADDRESS") else workers, include_dashboard=False,
+                 log_to_driver=False, logging_level="ERROR", configure_logging=False,
+                 runtime_env={"env_vars": {"PYTHONHASHSEED": "0"}})
+    try:
+        episode = ray.remote(num_cpus=1)(run_episode)
+        pending = [episode.remote(config, e) for e in todo]
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            yield ray.get(done[0])
+    finally:
+        if started_here:
+            ray.shutdown()
+
+
+def _results(config: SelfPlayConfig, todo: Sequence[int], workers: int,
+             backend: str = "local") -> Iterator[Dict[str, np.ndarray]]:
+    if backend == "ray":
+        yield from _ray_results(config, todo, workers)
+        return
     if workers <= 1 or len(todo) <= 1:
         for episode in todo:
             yield run_episode(config, episode)
@@ -73,14 +99,15 @@ def pending(folder: str, episodes: int) -> List[int]:
 
 
 def run_selfplay(config: SelfPlayConfig, folder: str, episodes: int, workers: int = 1,
-                 progress: Optional[Progress] = None, command: Optional[str] = None) -> Dict[str, object]:
+                 progress: Optional[Progress] = None, command: Optional[str] = None,
+                 backend: str = "local") -> Dict[str, object]:
     """Run the episodes of 0..episodes-1 not on disk yet; returns the manifest. Each finished
     episode is written (atomically) and recorded in the manifest before the next is awaited."""
     manifest = open_folder(folder, config.identity())
     os.makedirs(folder, exist_ok=True)
     todo = pending(folder, episodes)
     update_manifest(folder, manifest, [], command)
-    for arrays in _results(config, todo, workers):
+    for arrays in _results(config, todo, workers, backend):
         write_episode(folder, arrays)
         row = summary(arrays)
         update_manifest(folder, manifest, [row], command)

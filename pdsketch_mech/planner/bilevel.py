@@ -11,7 +11,7 @@ from __future__ import annotations
 import time
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional
+from typing import TYPE_CHECKING, Dict, List, Mapping, Optional
 
 import numpy as np
 
@@ -28,6 +28,9 @@ from .macros import add_mechanism_macros
 from .refine import Refinement, Step, skeleton_steps
 from .schedule import SLICE, next_turn
 from .serialize import plan_entries
+
+if TYPE_CHECKING:
+    from ..samplers.learned.ranked import LearnedMechanism
 
 
 
@@ -60,22 +63,28 @@ def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = 
 
 
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
-                 use_mechanisms: bool = True, max_skeletons: int = 200, validate: bool = True) -> PlanResult:
+                 use_mechanisms: bool = True, max_skeletons: int = 200, validate: bool = True,
+                 learned: Optional[Mapping[str, "LearnedMechanism"]] = None) -> PlanResult:
     """Plan in `world` (a fresh world of `problem`'s scene; left as it was) within `timeout`
     seconds. With `validate`, a refined skeleton counts only once it has been re-executed
-    in another fresh world, as `replay` does, and reached the goal there."""
+    in another fresh world, as `replay` does, and reached the goal there. `learned`: the
+    mechanisms' learned samplers, by mechanism name."""
     start = time.perf_counter()
     deadline = start + timeout
     rng = np.random.default_rng(seed)
     task, placeholders = prepare_task(domain, problem, use_mechanisms)
     counts: Counter = Counter()
-    sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts)
+    sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts,
+                          learned if use_mechanisms else None)
     sampler.deadline = deadline
     warnings = settle_start(world)
     initial = world.snapshot()
     stats: Dict[str, object] = {"skeletons": 0, "refined": 0, "pruned": 0, "samples": counts,
                                 "operators": len(task.operators), "executions": 0, "rejected": 0,
-                                "symbolic_s": 0.0, "continuous_s": 0.0}
+                                "symbolic_s": 0.0, "continuous_s": 0.0,
+                                # read when the statistics are finished:
+                                "proposals": sampler.proposals, "simulated": sampler.simulated,
+                                "score_ms": [m.score_seconds for m in (learned or {}).values()]}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
@@ -157,6 +166,11 @@ def _result(status: str, refinement: Refinement, values, start: float, stats, fa
 def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, object]:
     out = dict(stats)
     out["samples"] = dict(sorted(stats["samples"].items()))
+    # Per sampler: proposals verified (generic and learned apart) and values in simulated steps.
+    out["proposals"] = stats["proposals"]()
+    out["simulated"] = dict(sorted(stats["simulated"].items()))
+    scores = [t for times in stats["score_ms"] for t in times]
+    out["score_ms"] = {"batches": len(scores), "median": round(1000 * float(np.median(scores)), 2) if scores else None}
     out["symbolic_s"] = round(stats["symbolic_s"], 3)
     out["continuous_s"] = round(stats["continuous_s"], 3)
     out["failures"] = dict(failures.most_common(8))

@@ -4,13 +4,15 @@ A step such as `(grasp box table #grasp3 #traj4)` gets its placeholder values fr
 streams that created them (`sample-grasp` for #grasp3, `plan-grasp-motion` for #traj4),
 sampled in dependency order in the world as it is before the step. Each stream's sampler is
 the one its `:sampler` names (samplers/registry.py), told the step's context: the operator,
-the mechanism and the step's index in it, the objects' poses and the parent values.
+the mechanism and the step's index in it, the objects' poses and the parent values. A
+mechanism with learned samplers (samplers/learned/) ranks the proposals of the streams whose
+variables have a classifier; the other streams keep the generic order.
 """
 from __future__ import annotations
 
 import time
 from collections import Counter
-from typing import Callable, Dict, Iterator, List, Mapping, Optional
+from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -20,6 +22,9 @@ from ..samplers.registry import GENERIC_SAMPLERS
 from ..symbolic.optimistic import Placeholder, is_placeholder
 from ..world.world import World
 
+if TYPE_CHECKING:
+    from ..samplers.learned.ranked import LearnedMechanism
+
 # Told of every value a stream's sampler yields, with the request it answered (self-play
 # records them); the world is in the state the value was drawn in.
 SampleObserver = Callable[[SampleRequest, object], None]
@@ -28,8 +33,11 @@ SampleObserver = Callable[[SampleRequest, object], None]
 class StepSampler:
     """Joint samples of a step's placeholder arguments, drawn stream by stream."""
 
-    def __init__(self, streams: Mapping[str, Stream], placeholders: Mapping[str, Placeholder], counts: Counter):
+    def __init__(self, streams: Mapping[str, Stream], placeholders: Mapping[str, Placeholder], counts: Counter,
+                 learned: Optional[Mapping[str, "LearnedMechanism"]] = None):
         self.streams, self.placeholders, self.counts = streams, placeholders, counts
+        self.learned = dict(learned or {})   # mechanism name -> its classifiers
+        self.simulated: Counter = Counter()  # sampler -> values of it in steps simulated
         self.deadline = float("inf")  # (time.perf_counter()) no value is drawn after it
         unknown = sorted({s.sampler or s.name for s in streams.values()} - set(GENERIC_SAMPLERS))
         if unknown:
@@ -37,6 +45,40 @@ class StepSampler:
             raise ValueError(f"no sampler named {', '.join(unknown)}; known: {known}")
         self.samplers: Dict[str, Sampler] = {s.name: GENERIC_SAMPLERS[s.sampler or s.name]() for s in streams.values()}
         self.observers: List[SampleObserver] = []
+        self._ranked: Dict[Tuple[str, str, str], Sampler] = {}
+
+    def sampler_for(self, stream: str, step: StepContext, placeholder: str) -> Sampler:
+        """The stream's generic sampler, ranked by a classifier if the step's mechanism has one
+        for the variable `placeholder` stands for."""
+        learned = self.learned.get(step.mechanism) if step.mechanism else None
+        variable = step.role(placeholder)
+        if learned is None or variable not in learned:
+            return self.samplers[stream]
+        key = (stream, step.mechanism, variable)
+        if key not in self._ranked:
+            from ..samplers.learned.ranked import RankedSampler
+            self._ranked[key] = RankedSampler(self.samplers[stream], learned, variable)
+        return self._ranked[key]
+
+    def proposals(self) -> Dict[str, Dict[str, int]]:
+        """Proposals verified per sampler name, generic and learned (ranked) apart."""
+        out: Dict[str, Dict[str, int]] = {"generic": Counter(), "learned": Counter()}
+        for stream, sampler in self.samplers.items():
+            out["generic"][self.key(stream)] += sampler.examined
+        for (stream, _, _), sampler in self._ranked.items():
+            out["learned"][self.key(stream)] += sampler.examined
+        return {k: dict(sorted((n, c) for n, c in v.items() if c)) for k, v in out.items()}
+
+    def key(self, stream: str) -> str:
+        """The name statistics use for a stream's sampler."""
+        return self.streams[stream].sampler or stream
+
+    def note_simulated(self, values: Mapping[str, object]) -> None:
+        """Count the values a simulated step used, per sampler."""
+        for name in values:
+            holder = self.placeholders.get(name)
+            if holder is not None:
+                self.simulated[self.key(holder.stream)] += 1
 
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,
                 parents: Optional[Mapping[str, object]] = None, per_value: int = 1) -> Iterator[Dict[str, object]]:
@@ -59,9 +101,9 @@ class StepSampler:
         stream = self.streams[holder.stream]
         request = SampleRequest(stream.name, tuple(values.get(v, v) for v in holder.inputs),
                                 tuple(q.name for q in stream.inputs), step, poses, {**parents, **values}, self.deadline)
-        key = stream.sampler or stream.name
+        key = self.key(stream.name)
         drawn = 0
-        for value in self.samplers[stream.name].draw(world, request, rng):
+        for value in self.sampler_for(stream.name, step, name).draw(world, request, rng):
             if time.perf_counter() > self.deadline:
                 break
             self.counts[key] += 1

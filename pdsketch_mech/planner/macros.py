@@ -30,8 +30,8 @@ def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, pro
         object_params = [q for q in mechanism.parameters if not types.is_value(q.type)]
         for values in product(*(objects.get(q.type, ()) for q in object_params)):
             binding = {q.name: v for q, v in zip(object_params, values)}
-            for step_ids in _bind_steps(mechanism, binding, task, by_signature):
-                macro = _compose(mechanism, binding, values, step_ids, task, objects)
+            for step_ids, env in _bind_steps(mechanism, binding, task, by_signature):
+                macro = _compose(mechanism, binding, values, step_ids, task, objects, env)
                 if macro is not None:
                     task.operators.append(macro)
                     added += 1
@@ -40,11 +40,12 @@ def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, pro
 
 
 def _bind_steps(mechanism: Mechanism, binding: Dict[str, str], task: StripsTask,
-                by_signature) -> Iterator[List[int]]:
-    """Ground basis operators for the steps, continuous variables bound consistently."""
+                by_signature) -> Iterator[Tuple[List[int], Dict[str, str]]]:
+    """Ground basis operators for the steps, continuous variables bound consistently; with
+    each choice, the binding of every variable (objects and placeholders)."""
     def walk(i: int, env: Dict[str, str], chosen: List[int]):
         if i == len(mechanism.actions):
-            yield list(chosen)
+            yield list(chosen), dict(env)
             return
         call = mechanism.actions[i]
         names = [env.get(t.name, t.name) if isinstance(t, Var) else t.name for t in call.args]
@@ -70,7 +71,7 @@ def _unify(term: str, value: str, env: Dict[str, str]) -> bool:
 
 
 def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], task: StripsTask,
-             objects) -> Optional[Operator]:
+             objects, env: Dict[str, str]) -> Optional[Operator]:
     alternatives = formula_masks(mechanism.precondition, binding, task, objects)
     if not alternatives:
         return None
@@ -89,8 +90,11 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
     certified = tuple(formula_masks(mechanism.certified, binding, task, objects))
     if not certified:
         return None  # it promises what can never hold here
+    # Which of the mechanism's variables each placeholder stands for: learned samplers are
+    # trained per variable, and self-play labels its data by them.
+    roles = tuple(sorted((value, var) for var, value in env.items() if value.startswith("#")))
     return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids),
-                    certified=certified)
+                    certified=certified, roles=roles)
 
 
 def formula_masks(formula: Formula, binding, task: StripsTask, objects) -> List[Tuple[int, int]]:

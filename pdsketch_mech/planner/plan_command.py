@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from typing import List
+from typing import Dict, List
 
 from ..cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, write_plan_json
 from ..lang.errors import PddlError
@@ -35,13 +35,19 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
-    notes = learned_sampler_notes(loaded, use_learned=not args.no_learned_samplers, use_mechanisms=not args.basis_only)
+    notes: List[str] = []
     with world:
+        try:
+            learned = learned_samplers(loaded, use_learned=not args.no_learned_samplers,
+                                       use_mechanisms=not args.basis_only)
+        except ValueError as error:  # CheckpointError: a clear line, no fallback
+            print(f"error: {error}", file=sys.stderr)
+            return EXIT_BAD_INPUT
         remaining = max(0.1, args.timeout - (time.perf_counter() - started) - FINISH_MARGIN)
         result = bilevel_plan(loaded, problem, world, timeout=remaining, seed=args.seed,
-                              use_mechanisms=not args.basis_only)
+                              use_mechanisms=not args.basis_only, learned=learned)
     result.time_s = time.perf_counter() - started  # what the user waited, start-up included
-    result.stats["learned_samplers"] = "off" if args.no_learned_samplers else "unavailable"
+    result.stats["learned_samplers"] = sorted(learned) if learned else "off"
     entries = plan_entries(result.steps, result.values)
     for entry in entries:
         note = f"  ; {entry['mechanism']}" if entry["mechanism"] else ""
@@ -68,14 +74,13 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
     return status
 
 
-def learned_sampler_notes(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bool) -> List[str]:
-    """Say so when a mechanism names a learned sampler that this version cannot use yet,
-    rather than ignoring it silently (`--no-learned-samplers` asks for the generic ones)."""
-    if not use_learned or not use_mechanisms:
-        return []
-    return [f"mechanism '{m.name}' names the learned sampler \"{m.sampler}\", but this version has no runtime "
-            "for learned samplers: its steps use the generic samplers (--no-learned-samplers says this is "
-            "intended)" for m in loaded.domain.mechanisms if m.sampler]
+def learned_samplers(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bool) -> Dict[str, object]:
+    """The mechanisms' learned samplers (torch is imported only when one names a checkpoint);
+    none with `--no-learned-samplers` or `--basis-only`."""
+    if not use_learned or not use_mechanisms or not any(m.sampler for m in loaded.domain.mechanisms):
+        return {}
+    from ..samplers.learned.ranked import load_learned
+    return load_learned(loaded.domain.mechanisms)
 
 
 def summary(result: PlanResult) -> str:

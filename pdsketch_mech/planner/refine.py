@@ -37,10 +37,11 @@ class Step:
     certified: Tuple[Tuple[int, int], ...] = ()  # the last step of a mechanism: what it promised
     index: int = 0                # position in its mechanism (0 for a basis step)
     mechanism_args: Tuple[str, ...] = ()
+    roles: Tuple[Tuple[str, str], ...] = ()  # the mechanism's placeholders and their variables
 
     def context(self) -> StepContext:
         """What the step's samplers are told about it."""
-        return StepContext(self.name, self.args, self.mechanism, self.mechanism_args, self.index)
+        return StepContext(self.name, self.args, self.mechanism, self.mechanism_args, self.index, self.roles)
 
 
 @dataclass
@@ -107,6 +108,7 @@ class Refinement:
                 self.root_yields += 1
             outcome = execute_step(world, self.snapshots[i], step.name, step.args, values)
             self.executions += 1
+            self.sampler.note_simulated(values)
             if not outcome.ok:
                 self.failures[f"{step.name}: {outcome.reason}"] += 1
                 continue
@@ -155,5 +157,6 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
             macro = basis_id != op_id
             steps.append(Step(basis.name, basis.args, state, op.name if macro else None,
                               op.certified if last and op.steps else (), k if macro else 0,
-                              tuple(a for a in op.args if not a.startswith("#")) if macro else ()))
+                              tuple(a for a in op.args if not a.startswith("#")) if macro else (),
+                              op.roles if macro else ()))
     return steps

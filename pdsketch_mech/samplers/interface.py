@@ -37,6 +37,11 @@ class StepContext:
     mechanism: Optional[str] = None     # the mechanism the step belongs to (None: a basis step)
     mechanism_args: Tuple[str, ...] = ()  # the mechanism's object arguments
     index: int = 0                      # the step's position in its mechanism (0 for basis steps)
+    roles: Tuple[Tuple[str, str], ...] = ()  # the mechanism's placeholders -> its variables ("#grasp4", "?g1")
+
+    def role(self, placeholder: str) -> Optional[str]:
+        """The mechanism variable `placeholder` stands for (None: a basis step's, or unknown)."""
+        return dict(self.roles).get(placeholder)
 
 
 @dataclass(frozen=True)
@@ -71,6 +76,7 @@ class Sampler(Generic[Candidate]):
     planner revisits steps, so a modest budget that fails fast beats an exhaustive one."""
 
     budget: int = 120
+    examined: int = 0   # proposals verified so far (statistics: samples drawn from this sampler)
 
     def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                 budget: int) -> Iterator[Candidate]:
@@ -92,6 +98,7 @@ class Sampler(Generic[Candidate]):
         for examined, candidate in enumerate(self.propose(world, request, rng, limit)):
             if examined >= limit or time.perf_counter() > request.deadline:
                 return
+            self.examined += 1
             value = self.verify(world, request, candidate, rng)
             if value is not None:
                 yield value

@@ -38,6 +38,7 @@ class Operator:
     artificial: bool = False  # compiled goal disjunctions; never shown in plans
     steps: Tuple[int, ...] = ()  # a mechanism (macro): the ids of its basis operators, in order
     certified: Tuple[Tuple[int, int], ...] = ()  # a mechanism's promise: alternatives of (true, false) masks
+    roles: Tuple[Tuple[str, str], ...] = ()  # a mechanism: (placeholder, the variable it stands for)
 
     @property
     def label(self) -> str:

@@ -1,0 +1,155 @@
+"""`bench samplers NAME`: a mechanism's learned samplers against its generic ones (the
+paper's Macro+Sampler vs Macro) on instances of its task's test split.
+
+Each instance is planned twice with the mechanism's fragment, each in its own process:
+`--no-learned-samplers` (Macro) and with the checkpoint the fragment names (Macro+Sampler).
+Every solved plan is replayed in a fresh process. Figures per method: solved, median time,
+median proposals verified (samples drawn from the samplers) and median values evaluated in
+simulation, and both per sampler. Instances whose objects include a category the task's
+train split never shows are reported apart (held-out categories).
+"""
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Sequence, Tuple
+
+from .plans import make_run, plan_once, replay_once
+
+METHODS = (("macro", ("--no-learned-samplers",)), ("macro+sampler", ()))
+
+
+@dataclass
+class Trial:
+    instance: str
+    held_out: bool                        # an object of a category the train split never shows
+    method: str
+    status: str
+    time_s: float
+    proposals: Dict[str, int] = field(default_factory=dict)   # per sampler, generic + learned
+    simulated: Dict[str, int] = field(default_factory=dict)   # per sampler
+    score_ms: Optional[float] = None
+    reason: str = ""
+
+    @property
+    def proposed(self) -> int:
+        return sum(self.proposals.values())
+
+    @property
+    def evaluated(self) -> int:
+        return sum(self.simulated.values())
+
+
+def held_out_categories(task_name: str, instance) -> bool:
+    from ..envs.tasks import TASKS
+    task = TASKS[task_name]
+    seen = {a.split("/")[0] for spec in task.objects for a in spec.assets.train}
+    return any(o.asset.split("/")[0] not in seen for o in instance.objects if not o.name.startswith("d"))
+
+
+def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed: int, timeout: float,
+                 keep: Optional[str] = None, progress: bool = True) -> List[Trial]:
+    from ..envs.generate import sample
+    from ..envs.tasks import TASKS
+    trials: List[Trial] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = keep or tmp
+        for k in range(instances):
+            instance = sample(TASKS[task_name], split, seed + k)
+            stem = os.path.join(folder, instance.name)
+            problem = stem + ".pddl"
+            with open(problem, "w", encoding="utf-8") as handle:
+                handle.write(instance.problem_text())
+            held = held_out_categories(task_name, instance)
+            for method, flags in METHODS:
+                out = f"{stem}-{method}.json"
+                outcome = plan_once(fragment, problem, 0, timeout, out, extra=flags)
+                run = make_run(problem, fragment, 0, outcome)
+                stats = outcome.document.get("stats", {})
+                proposals: Dict[str, int] = {}
+                for part in stats.get("proposals", {}).values():
+                    for name, n in part.items():
+                        proposals[name] = proposals.get(name, 0) + int(n)
+                trial = Trial(instance.name, held, method, run.status, run.time_s, proposals,
+                              {k: int(v) for k, v in stats.get("simulated", {}).items()},
+                              (stats.get("score_ms") or {}).get("median"), run.reason)
+                if trial.status == "solved":
+                    ok, message = replay_once(fragment, problem, out)
+                    if not ok:
+                        trial.status, trial.reason = "invalid", f"did not replay: {message}"
+                trials.append(trial)
+                if progress:
+                    print(f"  {instance.name}{' (held-out category)' if held else ''} {method}: {trial.status} in "
+                          f"{trial.time_s:.1f} s, {trial.proposed} proposals, {trial.evaluated} simulated",
+                          file=sys.stderr, flush=True)
+    return trials
+
+
+def _median(values: Sequence[float]) -> str:
+    return f"{statistics.median(values):.1f}" if values else "-"
+
+
+def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str]]:
+    """One row per (instances, method); medians over every instance (unsolved ones count
+    what they drew until the limit), times over solved ones."""
+    header = ["instances", "method", "solved", "median s", "median proposals", "median simulated",
+              "per sampler: proposals / simulated (medians)"]
+    rows, lines = [], []
+    groups = [("all", list(trials)), ("seen categories", [t for t in trials if not t.held_out]),
+              ("held-out categories", [t for t in trials if t.held_out])]
+    for label, group in groups:
+        if not group or (label != "all" and len(group) == len(trials)):
+            continue
+        for method, _ in METHODS:
+            mine = [t for t in group if t.method == method]
+            solved = [t for t in mine if t.status == "solved"]
+            samplers = sorted({n for t in mine for n in list(t.proposals) + list(t.simulated)})
+            per = ", ".join(f"{n} {_median([t.proposals.get(n, 0) for t in mine])}/"
+                            f"{_median([t.simulated.get(n, 0) for t in mine])}" for n in samplers)
+            rows.append([label, method, f"{len(solved)}/{len(mine)}", _median([t.time_s for t in solved]),
+                         _median([t.proposed for t in mine]), _median([t.evaluated for t in mine]), per])
+    generic = [t for t in trials if t.method == "macro"]
+    learned = [t for t in trials if t.method == "macro+sampler"]
+    if generic and learned:
+        g, lt = statistics.median(t.evaluated for t in generic), statistics.median(t.evaluated for t in learned)
+        gp, lp = statistics.median(t.proposed for t in generic), statistics.median(t.proposed for t in learned)
+        lines.append(f"learned / generic: {g / max(lt, 1e-9):.2f}x fewer values simulated, "
+                     f"{gp / max(lp, 1e-9):.2f}x fewer proposals (medians)")
+        scores = [t.score_ms for t in learned if t.score_ms is not None]
+        if scores:
+            lines.append(f"scoring a batch of proposals: median {statistics.median(scores):.1f} ms "
+                         "(the first batch of a plan includes loading the shapes)")
+    for t in trials:
+        if t.status != "solved":
+            lines.append(f"{t.instance} {t.method}: {t.status} ({t.reason})")
+    return header, rows, lines
+
+
+def plot(trials: Sequence[Trial], path: str, title: str) -> None:
+    """The per-sampler breakdown (the paper's Fig. 8): median proposals and values simulated
+    per sampler, generic (Macro) beside learned (Macro+Sampler)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from ..cli import atomic_file
+    names = sorted({n for t in trials for n in list(t.proposals) + list(t.simulated)})
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
+    x = np.arange(len(names))
+    for ax, what in zip(axes, ("proposals", "simulated")):
+        for k, (method, _) in enumerate(METHODS):
+            mine = [t for t in trials if t.method == method]
+            heights = [statistics.median(getattr(t, what).get(n, 0) for t in mine) if mine else 0 for n in names]
+            ax.bar(x + (k - 0.5) * 0.4, heights, 0.4, label=method)
+        ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
+        ax.set_title(f"median {'proposals verified' if what == 'proposals' else 'values simulated'} per sampler")
+        ax.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    with atomic_file(path, binary=True, suffix=".png") as handle:
+        fig.savefig(handle, format="png", dpi=90)
+    plt.close(fig)

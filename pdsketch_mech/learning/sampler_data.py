@@ -1,0 +1,133 @@
+"""Self-play data -> one training set per mechanism parameter (the classifiers' inputs).
+
+A row is one value a generic sampler drew for a parameter in an episode, with its context:
+the mechanism's objects (asset cloud, size at the episode's scale, pose when drawn) and
+the values the parameter's parents took (the rankable parameters drawn before it in the
+mechanism's order; a parent not drawn is zeros with its presence flag 0). The label is 1 if
+the episode's successful plan used the value.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Dict, List, Sequence, Tuple
+
+import numpy as np
+
+from ..samplers.learned.encoding import RANKABLE
+from ..samplers.learned.model import ParamSpec, width
+from ..samplers.learned.shapes import size_features, unit_cloud
+from ..world.asset_index import resolve_asset
+from .selfplay_store import StoreError, done_episodes, read_episode
+
+# Columns holding a quaternion (x, y, z, w), per kind: stored with either sign in older data.
+QUATERNIONS = {"grasp": (3, 7), "contact": (3, 7), "placement": (3, 7), "trajectory": (10, 14)}
+
+
+@dataclass
+class ParamData:
+    """One parameter's rows as numpy arrays (Batch fields, see samplers/learned/model.py)."""
+
+    spec: ParamSpec
+    value: np.ndarray            # (n, width)
+    parents: List[np.ndarray]    # per parent (n, width of its kind)
+    present: np.ndarray          # (n, P)
+    urdfs: List[str]             # distinct object shapes
+    cloud_index: np.ndarray      # (n, M) into urdfs
+    sizes: np.ndarray            # (n, M, 3)
+    poses: np.ndarray            # (n, M, 7)
+    label: np.ndarray            # (n,)
+    episode: np.ndarray          # (n,): which episode (validation splits by episode)
+
+    def __len__(self) -> int:
+        return len(self.label)
+
+    def clouds(self) -> np.ndarray:
+        return np.stack([unit_cloud(u) for u in self.urdfs])
+
+
+def canonical(numbers: np.ndarray, kind: str) -> np.ndarray:
+    """NaN -> 0 and quaternions with w >= 0 (q and -q are one rotation)."""
+    out = np.nan_to_num(np.asarray(numbers, dtype=np.float64))
+    start, stop = QUATERNIONS[kind]
+    flip = out[..., stop - 1] < 0
+    out[flip, start:stop] *= -1
+    return out
+
+
+def read_episodes(folder: str) -> List[Dict[str, np.ndarray]]:
+    """Every episode with a grounding and samples, in episode order."""
+    episodes = [read_episode(folder, e) for e in done_episodes(folder)]
+    if not episodes:
+        raise StoreError(f"{folder}: no self-play episodes")
+    return [e for e in episodes if e["episode_objects"].shape[1] and len(e["label"])]
+
+
+def parent_specs(episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[str, ParamSpec]:
+    """The rankable parameters and, for each, its rankable parents in the mechanism's order."""
+    kinds: Dict[str, str] = {}
+    order: Dict[str, int] = {}
+    parents: Dict[str, set] = {}
+    objects = 0
+    for ep in episodes:
+        objects = ep["episode_objects"].shape[1]
+        for row in range(len(ep["label"])):
+            kind, var = str(ep["kind"][row]), str(ep["param"][row])
+            if kind not in RANKABLE or not var.startswith("?"):
+                continue
+            kinds[var], order[var] = kind, int(ep["param_index"][row])
+            for p in ep["parents"][row]:
+                if p >= 0 and str(ep["kind"][p]) in RANKABLE and str(ep["param"][p]).startswith("?"):
+                    parents.setdefault(var, set()).add(str(ep["param"][p]))
+                    kinds[str(ep["param"][p])] = str(ep["kind"][p])
+                    order[str(ep["param"][p])] = int(ep["param_index"][p])
+    return {var: ParamSpec(var, kind, tuple((p, kinds[p]) for p in sorted(parents.get(var, ()), key=order.get)),
+                           objects)
+            for var, kind in sorted(kinds.items(), key=lambda kv: order[kv[0]])}
+
+
+def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec) -> ParamData:
+    """The rows of `spec`'s parameter across the episodes."""
+    urdf_ids: Dict[str, int] = {}
+    cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "poses", "label", "episode")}
+    parent_rows: List[list] = [[] for _ in spec.parents]
+    for ep in episodes:
+        assets = [str(a) for a in ep["episode_assets"][0]]
+        scales = [float(s) for s in ep["episode_scales"][0]]
+        urdfs = [resolve_asset(a) for a in assets]
+        ids = [urdf_ids.setdefault(u, len(urdf_ids)) for u in urdfs]
+        sizes = [size_features(u, s) for u, s in zip(urdfs, scales)]
+        for row in np.flatnonzero(ep["param"] == spec.variable):
+            if str(ep["kind"][row]) != spec.kind:
+                continue
+            by_var = {str(ep["param"][p]): p for p in ep["parents"][row] if p >= 0}  # later ones win
+            for k, (var, kind) in enumerate(spec.parents):
+                p = by_var.get(var)
+                parent_rows[k].append(canonical(ep["value"][p, :width(kind)], kind) if p is not None
+                                      else np.zeros(width(kind)))
+            cols["present"].append([float(var in by_var) for var, _ in spec.parents])
+            cols["value"].append(canonical(ep["value"][row, :width(spec.kind)], spec.kind))
+            cols["cloud"].append(ids)
+            cols["sizes"].append(sizes)
+            poses = np.array(ep["poses"][row], dtype=np.float64)
+            flip = poses[:, 6] < 0
+            poses[flip, 3:7] *= -1
+            cols["poses"].append(poses)
+            cols["label"].append(int(ep["label"][row]))
+            cols["episode"].append(int(ep["episode_id"][0]))
+    n = len(cols["label"])
+    f32 = lambda rows, shape: np.asarray(rows, dtype=np.float32).reshape(shape)  # noqa: E731
+    m = spec.objects
+    return ParamData(spec, f32(cols["value"], (n, width(spec.kind))),
+                     [f32(r, (n, width(k))) for r, (_, k) in zip(parent_rows, spec.parents)],
+                     f32(cols["present"], (n, len(spec.parents))), list(urdf_ids),
+                     np.asarray(cols["cloud"], dtype=np.int64).reshape(n, m), f32(cols["sizes"], (n, m, 3)),
+                     f32(cols["poses"], (n, m, 7)), np.asarray(cols["label"], dtype=np.float32),
+                     np.asarray(cols["episode"], dtype=np.int64))
+
+
+def split_episodes(episodes: Sequence[int], fraction: float, seed: int) -> Tuple[set, set]:
+    """(train, validation) episode ids: `fraction` of them held out, chosen by `seed`."""
+    ids = sorted(set(int(e) for e in episodes))
+    rng = np.random.default_rng(seed)
+    held = set(rng.choice(ids, size=int(round(fraction * len(ids))), replace=False).tolist()) if len(ids) > 1 else set()
+    return set(ids) - held, held

@@ -1,0 +1,144 @@
+"""Training the classifiers of a mechanism's parameters on self-play data.
+
+Binary cross-entropy, class-balanced (positives weighted by negatives / positives: a
+successful episode uses one value per parameter among dozens drawn), Adam, minibatches.
+Episodes, not rows, are held out for validation (rows of one episode share their context).
+Reported per parameter: rows, positives, validation ROC AUC and balanced accuracy.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Dict, List, Optional, Sequence
+
+import numpy as np
+import torch
+from torch import nn
+
+from ..samplers.learned.model import Batch, MechanismClassifiers
+from ..samplers.learned.pointnet import EncoderConfig
+from .sampler_data import ParamData, param_data, parent_specs, split_episodes
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    epochs: int = 60
+    batch: int = 128
+    lr: float = 1e-3
+    weight_decay: float = 1e-4
+    validation: float = 0.2      # share of episodes held out
+    seed: int = 0
+    encoder: EncoderConfig = EncoderConfig()
+
+
+@dataclass
+class ParamReport:
+    variable: str
+    kind: str
+    rows: int
+    positives: int
+    validation_rows: int = 0
+    validation_positives: int = 0
+    auc: Optional[float] = None              # None: the validation rows hold one class only
+    balanced_accuracy: Optional[float] = None
+    train_loss: List[float] = field(default_factory=list)
+    validation_loss: List[float] = field(default_factory=list)
+    skipped: str = ""                        # why no classifier was trained
+
+
+def roc_auc(scores: np.ndarray, labels: np.ndarray) -> Optional[float]:
+    """Area under the ROC curve (Mann-Whitney U with tied ranks averaged)."""
+    pos, neg = labels > 0.5, labels <= 0.5
+    if not pos.any() or not neg.any():
+        return None
+    order = np.argsort(scores, kind="stable")
+    ranks = np.empty(len(scores))
+    sorted_scores = scores[order]
+    i = 0
+    while i < len(scores):  # average ranks over ties
+        j = i
+        while j + 1 < len(scores) and sorted_scores[j + 1] == sorted_scores[i]:
+            j += 1
+        ranks[order[i:j + 1]] = (i + j) / 2.0 + 1
+        i = j + 1
+    n_pos, n_neg = int(pos.sum()), int(neg.sum())
+    return float((ranks[pos].sum() - n_pos * (n_pos + 1) / 2) / (n_pos * n_neg))
+
+
+def balanced_accuracy(scores: np.ndarray, labels: np.ndarray) -> Optional[float]:
+    pos, neg = labels > 0.5, labels <= 0.5
+    if not pos.any() or not neg.any():
+        return None
+    return float(((scores[pos] > 0.5).mean() + (scores[neg] <= 0.5).mean()) / 2)
+
+
+def to_batch(data: ParamData, rows: np.ndarray, clouds: torch.Tensor) -> Batch:
+    t = torch.from_numpy
+    return Batch(t(data.value[rows]), [t(p[rows]) for p in data.parents], t(data.present[rows]), clouds,
+                 t(data.cloud_index[rows]), t(data.sizes[rows]), t(data.poses[rows]))
+
+
+def train_mechanism(episodes: Sequence[Dict[str, np.ndarray]], config: TrainConfig,
+                    progress: Optional[Callable[[str, int, float, float], None]] = None
+                    ) -> tuple[MechanismClassifiers, List[ParamReport]]:
+    """Classifiers for every rankable parameter with positives in the data; reports for all."""
+    torch.manual_seed(config.seed)
+    specs = parent_specs(episodes)
+    datasets = {var: param_data(episodes, spec) for var, spec in specs.items()}
+    trainable = [spec for var, spec in specs.items() if datasets[var].label.sum() > 0]
+    model = MechanismClassifiers(trainable, config.encoder)
+    reports: List[ParamReport] = []
+    for var, spec in specs.items():
+        data = datasets[var]
+        report = ParamReport(var, spec.kind, len(data), int(data.label.sum()))
+        reports.append(report)
+        if spec not in trainable:
+            report.skipped = "no value of it was ever in a successful plan"
+            continue
+        _train_one(model.classifier(var), data, config, report, progress)
+    model.eval()
+    return model, reports
+
+
+def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, report: ParamReport,
+               progress: Optional[Callable[[str, int, float, float], None]]) -> None:
+    train_eps, held_eps = split_episodes(data.episode, config.validation, config.seed)
+    train_rows = np.flatnonzero(np.isin(data.episode, list(train_eps)))
+    held_rows = np.flatnonzero(np.isin(data.episode, list(held_eps)))
+    if not data.label[train_rows].any():  # every positive fell in validation: train on all
+        train_rows, held_rows = np.arange(len(data)), np.zeros(0, dtype=np.int64)
+    clouds = torch.from_numpy(data.clouds())
+    classifier.fit_statistics(to_batch(data, train_rows, clouds))
+    labels = torch.from_numpy(data.label)
+    positives = float(data.label[train_rows].sum())
+    weight = torch.tensor((len(train_rows) - positives) / max(positives, 1.0))
+    loss_fn = nn.BCEWithLogitsLoss(pos_weight=weight)
+    optimiser = torch.optim.Adam(classifier.parameters(), lr=config.lr, weight_decay=config.weight_decay)
+    rng = np.random.default_rng(config.seed)
+    for epoch in range(config.epochs):
+        classifier.train()
+        losses = []
+        order = rng.permutation(train_rows)
+        for start in range(0, len(order), config.batch):
+            rows = order[start:start + config.batch]
+            optimiser.zero_grad()
+            loss = loss_fn(classifier(to_batch(data, rows, clouds)), labels[rows])
+            loss.backward()
+            optimiser.step()
+            losses.append(loss.item() * len(rows))
+        report.train_loss.append(sum(losses) / len(train_rows))
+        held_loss = float("nan")
+        if len(held_rows):
+            classifier.eval()
+            with torch.no_grad():
+                held_loss = float(loss_fn(classifier(to_batch(data, held_rows, clouds)), labels[held_rows]))
+            report.validation_loss.append(held_loss)
+        if progress is not None:
+            progress(report.variable, epoch, report.train_loss[-1], held_loss)
+    classifier.eval()
+    report.validation_rows, report.validation_positives = len(held_rows), int(data.label[held_rows].sum())
+    if len(held_rows):
+        with torch.no_grad():
+            scores = torch.sigmoid(classifier(to_batch(data, held_rows, clouds))).numpy()
+        report.auc = roc_auc(scores, data.label[held_rows])
+        report.balanced_accuracy = balanced_accuracy(scores, data.label[held_rows])
+

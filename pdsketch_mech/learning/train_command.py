@@ -1,0 +1,102 @@
+"""`learn train NAME`: self-play, then training, then the checkpoint, the report and the
+fragment's `:sampler` line.
+
+    domains/mechanisms/NAME.samplers.safetensors   weights (safetensors: no code on load)
+    domains/mechanisms/NAME.samplers.json          metadata: mechanism hash, encoder, data, seed, command
+    domains/mechanisms/NAME.samplers.md / .png     the learning report
+    domains/mechanisms/NAME.pddl                   gains `:sampler "NAME.samplers.safetensors"`
+
+Self-play data stay in the data folder (default out/selfplay/NAME): a rerun with more
+episodes only plays the missing ones, and training always reads every episode on disk.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+from dataclasses import replace
+from typing import Dict, Optional
+
+from ..cli import write_text
+from ..lang.nodes import Domain
+from ..lang.parser import parse_file
+from ..lang.writer import write_domain
+from ..samplers.learned.checkpoint import SUFFIX, metadata_path, save
+from .sampler_data import read_episodes
+from .sampler_report import write_report
+from .sampler_training import TrainConfig, train_mechanism
+
+
+def shown(path: str) -> str:
+    """A path as the user would type it: relative inside the working folder, else absolute."""
+    full = os.path.abspath(path)
+    return os.path.relpath(full) if full.startswith(os.getcwd() + os.sep) else full
+
+
+def checkpoint_for(fragment: str, name: str) -> str:
+    return os.path.join(os.path.dirname(os.path.abspath(fragment)), name + SUFFIX)
+
+
+def point_fragment_at(fragment: str, name: str, checkpoint: str) -> bool:
+    """Give the fragment's mechanism `:sampler "<checkpoint's file name>"` (the comment lines
+    at the top are kept). Returns whether the file changed."""
+    with open(fragment, encoding="utf-8") as handle:
+        text = handle.read()
+    domain = parse_file(fragment)
+    assert isinstance(domain, Domain)
+    wanted = os.path.relpath(os.path.abspath(checkpoint), os.path.dirname(os.path.abspath(fragment)))
+    mechanisms = tuple(replace(m, sampler=wanted) if m.name == name else m for m in domain.mechanisms)
+    if mechanisms == domain.mechanisms:
+        return False
+    header = []
+    for line in text.splitlines():
+        if not line.startswith(";"):
+            break
+        header.append(line.replace("Generic samplers fill its parameters until one is learned.",
+                                   "Its sampler was learned by `python -m pdsketch_mech.learn train`."))
+    write_text(fragment, "\n".join(header) + ("\n" if header else "") + write_domain(replace(domain, mechanisms=mechanisms)))
+    return True
+
+
+def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: str, config: TrainConfig,
+                   manifest: Dict[str, object], info: Dict[str, object], quiet: bool = False) -> int:
+    """Train on every episode in `data`, write checkpoint + metadata + report, point the
+    fragment at the checkpoint. Returns how many classifiers were trained."""
+    from tqdm import tqdm
+    episodes = read_episodes(data)
+    started = time.perf_counter()
+    with tqdm(total=None, file=sys.stderr, unit="epoch", desc=f"train {name}", disable=quiet,
+              dynamic_ncols=True) as bar:
+        def progress(variable: str, epoch: int, train_loss: float, held_loss: float) -> None:
+            bar.set_postfix_str(f"{variable} epoch {epoch + 1}/{config.epochs}: loss {train_loss:.3f}, "
+                                f"validation {held_loss:.3f}")
+            bar.update(1)
+        model, reports = train_mechanism(episodes, config, progress)
+    info = {**info, "seconds_training": time.perf_counter() - started}
+    rows = sum(r.rows for r in reports)
+    meta = {"fragment": os.path.relpath(fragment, os.path.dirname(checkpoint)), "seed": config.seed,
+            "epochs": config.epochs, "episodes": len(episodes), "rows": rows,
+            "selfplay": manifest.get("config", {}), "command": info["command"],
+            "validation": {r.variable: {"auc": r.auc, "balanced_accuracy": r.balanced_accuracy,
+                                        "rows": r.validation_rows, "positives": r.validation_positives}
+                           for r in reports if not r.skipped},
+            "skipped": {r.variable: r.skipped for r in reports if r.skipped}}
+    save(checkpoint, model, mechanism, meta)
+    base = checkpoint[:-len(".safetensors")]
+    write_report(base + ".md", base + ".png", name, reports, manifest, info)
+    changed = point_fragment_at(fragment, name, checkpoint)
+    trained = [r for r in reports if not r.skipped]
+    size = os.path.getsize(checkpoint) / 1e6
+    print(f"train {name}: {len(trained)} classifiers ({', '.join(r.variable for r in trained) or 'none'}) "
+          f"from {len(episodes)} episodes, {rows} values; wrote {shown(checkpoint)} ({size:.2f} MB), "
+          f"{shown(metadata_path(checkpoint))}, {shown(base)}.md/.png"
+          + (f"; {shown(fragment)} now names the checkpoint" if changed else ""), file=sys.stderr)
+    for r in reports:
+        figure = f"validation AUC {r.auc:.3f}" if r.auc is not None else "validation AUC -"
+        print(f"  {r.variable} ({r.kind}): {r.rows} values, {r.positives} positive; "
+              + (f"not trained: {r.skipped}" if r.skipped else figure), file=sys.stderr)
+    return len(trained)
+
+
+def default_config(epochs: Optional[int], seed: int) -> TrainConfig:
+    return TrainConfig(seed=seed) if epochs is None else TrainConfig(epochs=epochs, seed=seed)

@@ -1,0 +1,85 @@
+"""Checkpoints of learned samplers: weights in safetensors, metadata in JSON beside them.
+
+    domains/mechanisms/hook-use.samplers.safetensors   the classifiers' tensors (no code)
+    domains/mechanisms/hook-use.samplers.json          what they are and where they came from
+
+Loading never executes code: safetensors holds tensors only, and the JSON is data. The
+metadata names the mechanism and a hash of its definition (parameters, precondition,
+certified facts, steps; not comments, not the `:sampler` line that points here), so a
+checkpoint trained for another version of the mechanism is refused with a message naming
+both files.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from dataclasses import replace
+from typing import Any, Dict, Tuple
+
+from ...lang.nodes import Mechanism
+from ...lang.writer import write_mechanism
+from .model import MechanismClassifiers, ParamSpec
+from .pointnet import EncoderConfig
+
+SCHEMA = "pdsketch_mech.samplers/1"
+SUFFIX = ".samplers.safetensors"
+
+
+class CheckpointError(ValueError):
+    """A checkpoint that cannot be used (missing, unreadable, for another mechanism)."""
+
+
+def mechanism_hash(mechanism: Mechanism) -> str:
+    """sha256 of the mechanism as written, without its `:sampler` and source location."""
+    return hashlib.sha256(write_mechanism(replace(mechanism, sampler=None)).encode()).hexdigest()
+
+
+def metadata_path(weights: str) -> str:
+    base = weights[:-len(".safetensors")] if weights.endswith(".safetensors") else weights
+    return base + ".json"
+
+
+def save(weights: str, model: MechanismClassifiers, mechanism: Mechanism, info: Dict[str, Any]) -> Tuple[str, str]:
+    """Write the weights and the metadata (each atomically); returns both paths."""
+    from safetensors.torch import save as to_bytes
+
+    from ...cli import atomic_file, write_json
+    tensors = {k: v.detach().contiguous() for k, v in model.state_dict().items()}
+    with atomic_file(weights, binary=True, suffix=".safetensors") as handle:
+        handle.write(to_bytes(tensors))
+    meta = {"schema": SCHEMA, "mechanism": mechanism.name, "mechanism_hash": mechanism_hash(mechanism),
+            "encoder": model.encoder.to_json(), "parameters": [s.to_json() for s in model.specs.values()],
+            **info}
+    write_json(metadata_path(weights), meta)
+    return weights, metadata_path(weights)
+
+
+def load(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[MechanismClassifiers, Dict[str, Any]]:
+    """The classifiers of `mechanism` (defined in `fragment`) from `weights`; CheckpointError
+    if the files are missing or unreadable or were trained for another definition."""
+    from safetensors import SafetensorError
+    from safetensors.torch import load_file
+    meta_file = metadata_path(weights)
+    for path in (weights, meta_file):
+        if not os.path.isfile(path):
+            raise CheckpointError(f"{path}: not found (the checkpoint of mechanism '{mechanism.name}' in {fragment})")
+    try:
+        with open(meta_file, encoding="utf-8") as handle:
+            meta = json.load(handle)
+        if meta.get("schema") != SCHEMA:
+            raise CheckpointError(f"{meta_file}: not a learned-sampler checkpoint ({SCHEMA})")
+        if meta.get("mechanism") != mechanism.name or meta.get("mechanism_hash") != mechanism_hash(mechanism):
+            raise CheckpointError(
+                f"{weights} was trained for another definition of mechanism '{meta.get('mechanism')}' than the one "
+                f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name}) or plan with "
+                "--no-learned-samplers")
+        specs = [ParamSpec.from_json(s) for s in meta["parameters"]]
+        model = MechanismClassifiers(specs, EncoderConfig.from_json(meta["encoder"]))
+        model.load_state_dict(load_file(weights), strict=True)
+    except (OSError, ValueError, KeyError, TypeError, RuntimeError, SafetensorError) as exc:
+        if isinstance(exc, CheckpointError):
+            raise
+        raise CheckpointError(f"{weights}: cannot load the checkpoint: {str(exc).splitlines()[0]}") from None
+    model.eval()
+    return model, meta

@@ -1,0 +1,178 @@
+"""Classifiers f(value | context) in [0, 1], one per continuous parameter of a mechanism.
+
+A parameter's context is what its sampler is told: the mechanism's objects (their shapes,
+sizes and current poses) and the values its parent parameters took. Each part has its own
+encoder -- PointNet++ for shapes (pointnet.py), MLPs for poses, contacts and values -- and
+the embeddings are concatenated in the mechanism's order (objects, parents, the value)
+before the head. The head has one hidden layer rather than the paper's single linear layer:
+whether a grasp is good depends on the value *and* the context together (which end of which
+tool), and a linear layer over separately encoded parts cannot express that.
+
+Positions of the value (a contact's point, a placement's position) are also given in each
+object's frame, so that "behind the target" means the same wherever the target stands.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import torch
+from torch import nn
+
+from .encoding import VALUE_LAYOUT
+from .pointnet import EncoderConfig, PointNetEncoder
+
+HIDDEN = 64
+SHAPE_PROJECTION = 32
+POSE = 7
+SIZE = 3
+
+# Columns of a value that are world positions, per kind (start, stop): expressed in each
+# object's frame as extra features. A grasp is already in its object's frame.
+ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
+    "grasp": (), "placement": ((0, 3),), "contact": ((0, 3), (7, 10)), "trajectory": ((7, 10),),
+}
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One classifier's inputs: the parameter, its kind, its parents (variable, kind) in the
+    mechanism's order, and how many mechanism objects form the context."""
+
+    variable: str
+    kind: str
+    parents: Tuple[Tuple[str, str], ...]
+    objects: int
+
+    def to_json(self) -> dict:
+        return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
+                "objects": self.objects}
+
+    @classmethod
+    def from_json(cls, data: dict) -> "ParamSpec":
+        return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]))
+
+
+def width(kind: str) -> int:
+    return len(VALUE_LAYOUT[kind])
+
+
+@dataclass
+class Batch:
+    """Inputs for B rows (all float32 tensors unless said)."""
+
+    value: torch.Tensor                  # (B, width(kind))
+    parents: List[torch.Tensor]          # per parent: (B, width(parent kind)); zeros when absent
+    present: torch.Tensor                # (B, P): 1 where the parent was drawn
+    clouds: torch.Tensor                 # (U, N, 3): the distinct shapes
+    cloud_index: torch.Tensor            # (B, M) long: each object's row in `clouds`
+    sizes: torch.Tensor                  # (B, M, 3)
+    poses: torch.Tensor                  # (B, M, 7)
+    extra: Dict[str, torch.Tensor] = field(default_factory=dict)
+
+    def rows(self, index: torch.Tensor) -> "Batch":
+        return Batch(self.value[index], [p[index] for p in self.parents], self.present[index], self.clouds,
+                     self.cloud_index[index], self.sizes[index], self.poses[index])
+
+
+def quat_rotate_inverse(q: torch.Tensor, v: torch.Tensor) -> torch.Tensor:
+    """Rotate vectors v (..., 3) by the inverse of unit quaternions q (..., 4) (x, y, z, w)."""
+    u, w = -q[..., :3], q[..., 3:]
+    t = 2.0 * torch.cross(u, v, dim=-1)
+    return v + w * t + torch.cross(u, t, dim=-1)
+
+
+class Standardise(nn.Module):
+    """x -> (x - mean) / std with statistics fixed from the training data (saved with the weights)."""
+
+    def __init__(self, size: int):
+        super().__init__()
+        self.register_buffer("mean", torch.zeros(size))
+        self.register_buffer("std", torch.ones(size))
+
+    def fit(self, x: torch.Tensor) -> None:
+        flat = x.reshape(-1, x.shape[-1])
+        self.mean.copy_(flat.mean(0))
+        self.std.copy_(flat.std(0).clamp_min(1e-3) if len(flat) > 1 else torch.ones_like(self.std))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return (x - self.mean) / self.std
+
+
+def mlp(inputs: int, hidden: int = HIDDEN) -> nn.Sequential:
+    return nn.Sequential(nn.Linear(inputs, hidden), nn.ReLU(), nn.Linear(hidden, hidden), nn.ReLU())
+
+
+class ParamClassifier(nn.Module):
+    """Logits for (value, context) rows of one parameter (sigmoid: the probability that the
+    value ends up in a successful plan)."""
+
+    def __init__(self, spec: ParamSpec, encoder: EncoderConfig):
+        super().__init__()
+        self.spec = spec
+        anchors = 3 * len(ANCHORS[spec.kind])
+        self.shape = PointNetEncoder(encoder)
+        self.shape_projection = nn.Linear(encoder.out, SHAPE_PROJECTION)
+        object_inputs = POSE + SIZE + anchors
+        self.object_norm = nn.ModuleList(Standardise(object_inputs) for _ in range(spec.objects))
+        self.objects = nn.ModuleList(mlp(SHAPE_PROJECTION + object_inputs) for _ in range(spec.objects))
+        self.parent_norm = nn.ModuleList(Standardise(width(k)) for _, k in spec.parents)
+        self.parents = nn.ModuleList(mlp(width(k) + 1) for _, k in spec.parents)
+        self.value_norm = Standardise(width(spec.kind))
+        self.value = mlp(width(spec.kind))
+        parts = spec.objects + len(spec.parents) + 1
+        self.head = nn.Sequential(nn.Linear(parts * HIDDEN, 2 * HIDDEN), nn.ReLU(), nn.Linear(2 * HIDDEN, 1))
+
+    def object_inputs(self, batch: Batch) -> torch.Tensor:
+        """(B, M, pose + size + anchors): each object's pose and size, and the value's
+        positions in that object's frame."""
+        poses = batch.poses
+        parts = [poses, batch.sizes]
+        for start, stop in ANCHORS[self.spec.kind]:
+            point = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
+            parts.append(quat_rotate_inverse(poses[..., 3:], point - poses[..., :3]))
+        return torch.cat(parts, dim=-1)
+
+    def fit_statistics(self, batch: Batch) -> None:
+        """Fix the input standardisation from the training rows."""
+        inputs = self.object_inputs(batch)
+        for m, norm in enumerate(self.object_norm):
+            norm.fit(inputs[:, m])
+        for p, norm in enumerate(self.parent_norm):
+            rows = batch.present[:, p] > 0
+            if rows.any():
+                norm.fit(batch.parents[p][rows])
+        self.value_norm.fit(batch.value)
+
+    def shape_vectors(self, clouds: torch.Tensor) -> torch.Tensor:
+        """(U, S) embeddings of distinct clouds (fixed once trained: planning caches them)."""
+        return self.shape_projection(self.shape(clouds))
+
+    def forward(self, batch: Batch, shapes: Optional[torch.Tensor] = None) -> torch.Tensor:
+        """Logits (B,); `shapes`: precomputed `shape_vectors(batch.clouds)`."""
+        shapes = (self.shape_vectors(batch.clouds) if shapes is None else shapes)[batch.cloud_index]  # (B, M, S)
+        inputs = self.object_inputs(batch)
+        parts = [net(torch.cat([shapes[:, m], norm(inputs[:, m])], dim=-1))
+                 for m, (net, norm) in enumerate(zip(self.objects, self.object_norm))]
+        for p, (net, norm) in enumerate(zip(self.parents, self.parent_norm)):
+            present = batch.present[:, p:p + 1]
+            parts.append(net(torch.cat([norm(batch.parents[p]) * present, present], dim=-1)))
+        parts.append(self.value(self.value_norm(batch.value)))
+        return self.head(torch.cat(parts, dim=-1)).squeeze(-1)
+
+
+class MechanismClassifiers(nn.Module):
+    """The classifiers of one mechanism, by variable."""
+
+    def __init__(self, specs: Sequence[ParamSpec], encoder: EncoderConfig):
+        super().__init__()
+        self.specs = {s.variable: s for s in specs}
+        self.encoder = encoder
+        # ModuleDict keys cannot hold "?": "?g1" is stored as "g1"
+        self.by_variable = nn.ModuleDict({s.variable.lstrip("?"): ParamClassifier(s, encoder) for s in specs})
+
+    def classifier(self, variable: str) -> ParamClassifier:
+        return self.by_variable[variable.lstrip("?")]
+
+    def __contains__(self, variable: object) -> bool:
+        return isinstance(variable, str) and variable.lstrip("?") in self.by_variable

@@ -1,0 +1,152 @@
+"""A mechanism's learned samplers at planning time: rank a generic sampler's proposals.
+
+For a mechanism step whose parameter has a classifier, the step's stream draws a batch of
+proposals from its generic sampler (cheap geometry), scores the batch in one forward pass
+in the step's context (the mechanism's objects where they are now, the values its earlier
+steps drew), and verifies the proposals best first. A share of the walk (EXPLORE) takes
+proposals at random from the rest, and every proposal of the batch is still verified in the
+end: the ranking reorders, it never removes, so the planner stays as complete as with the
+generic sampler alone.
+"""
+from __future__ import annotations
+
+import os
+import time
+from itertools import islice
+from typing import TYPE_CHECKING, Any, Dict, Iterable, Iterator, List, Optional
+
+import numpy as np
+import torch
+
+from ..interface import Sampler, SampleRequest
+from .checkpoint import load
+from .encoding import encode_proposal, encode_value, pose_array
+from .model import Batch, MechanismClassifiers, ParamSpec, width
+from .shapes import size_features, unit_cloud
+
+if TYPE_CHECKING:
+    from ...lang.nodes import Mechanism
+    from ...world.world import World
+
+BATCH = 64        # proposals scored together
+EXPLORE = 0.2     # chance that the next proposal verified is a random one rather than the best left
+
+
+class LearnedMechanism:
+    """One mechanism's classifiers, scoring proposals in a step's context."""
+
+    def __init__(self, model: MechanismClassifiers, meta: Dict[str, Any]):
+        self.model, self.meta = model, meta
+        self.score_seconds: List[float] = []   # each batch's forward pass (stats)
+        self._shapes: Dict[tuple, torch.Tensor] = {}  # (variable, urdf) -> the shape's embedding
+
+    def __contains__(self, variable: object) -> bool:
+        return variable in self.model
+
+    def context(self, world: "World", request: SampleRequest, spec: ParamSpec, rows: int) -> Batch:
+        """The step's context for `rows` proposals (values filled in by the caller)."""
+        objects = request.step.mechanism_args
+        bodies = [world.bodies[o] for o in objects]
+        clouds = torch.from_numpy(np.stack([unit_cloud(b.urdf) for b in bodies]))
+        sizes = torch.tensor([size_features(b.urdf, b.scale) for b in bodies], dtype=torch.float32)
+        poses = torch.tensor([pose_array(world.pose(o)) for o in objects], dtype=torch.float32)
+        by_variable = {request.step.role(k): v for k, v in request.parents.items()}
+        parents, present = [], []
+        for variable, kind in spec.parents:
+            value = by_variable.get(variable)
+            numbers = encode_value(world, value)[1] if value is not None else np.zeros(width(kind))
+            parents.append(torch.tensor(np.nan_to_num(numbers), dtype=torch.float32).expand(rows, -1))
+            present.append(float(value is not None))
+        return Batch(torch.zeros(rows, width(spec.kind)), parents,
+                     torch.tensor(present, dtype=torch.float32).expand(rows, -1), clouds,
+                     torch.arange(len(objects)).expand(rows, -1), sizes.expand(rows, -1, -1),
+                     poses.expand(rows, -1, -1))
+
+    def score(self, world: "World", request: SampleRequest, variable: str, proposals: List[object]) -> np.ndarray:
+        """The classifier's probability for each proposal (0.5 where a proposal has no encoding)."""
+        started = time.perf_counter()
+        classifier = self.model.classifier(variable)
+        numbers = [encode_proposal(world, p) for p in proposals]
+        known = [i for i, v in enumerate(numbers) if v is not None]
+        out = np.full(len(proposals), 0.5)
+        if known:
+            batch = self.context(world, request, classifier.spec, len(known))
+            batch.value = torch.tensor(np.nan_to_num(np.stack([numbers[i] for i in known])), dtype=torch.float32)
+            with torch.no_grad():
+                out[known] = torch.sigmoid(classifier(batch, self._shape_vectors(world, request, variable))).numpy()
+        self.score_seconds.append(time.perf_counter() - started)
+        return out
+
+
+    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> torch.Tensor:
+        """The mechanism objects' shape embeddings, computed once per shape."""
+        rows = []
+        for name in request.step.mechanism_args:
+            urdf = world.bodies[name].urdf
+            key = (variable, urdf)
+            if key not in self._shapes:
+                with torch.no_grad():
+                    cloud = torch.from_numpy(unit_cloud(urdf)).unsqueeze(0)
+                    self._shapes[key] = self.model.classifier(variable).shape_vectors(cloud)[0]
+            rows.append(self._shapes[key])
+        return torch.stack(rows)
+
+
+def walk_order(scores: np.ndarray, rng: np.random.Generator, explore: float = EXPLORE) -> List[int]:
+    """Indices best first, each next one drawn at random from the rest with chance `explore`."""
+    remaining = [int(i) for i in np.argsort(-scores, kind="stable")]
+    order = []
+    while remaining:
+        pick = int(rng.integers(len(remaining))) if len(remaining) > 1 and rng.random() < explore else 0
+        order.append(remaining.pop(pick))
+    return order
+
+
+class RankedSampler(Sampler):
+    """A generic sampler whose proposals are verified in the order a classifier ranks them."""
+
+    def __init__(self, generic: Sampler, learned: LearnedMechanism, variable: str):
+        self.generic, self.learned, self.variable = generic, learned, variable
+        self.budget = generic.budget
+
+    def propose(self, world, request, rng, budget):
+        return self.generic.propose(world, request, rng, budget)
+
+    def verify(self, world, request, candidate, rng):
+        return self.generic.verify(world, request, candidate, rng)
+
+    def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
+             budget: Optional[int] = None) -> Iterator[object]:
+        limit = self.budget if budget is None else budget
+        proposals = self.generic.propose(world, request, rng, limit)
+        examined = 0
+        while examined < limit and time.perf_counter() <= request.deadline:
+            batch = list(islice(proposals, min(BATCH, limit - examined)))
+            if not batch:
+                return
+            scores = self.learned.score(world, request, self.variable, batch)
+            for index in walk_order(scores, rng):
+                if examined >= limit or time.perf_counter() > request.deadline:
+                    return
+                examined += 1
+                self.examined += 1
+                value = self.generic.verify(world, request, batch[index], rng)
+                if value is not None:
+                    yield value
+
+
+def checkpoint_path(mechanism: "Mechanism") -> str:
+    """The file a mechanism's `:sampler` names, resolved beside the fragment that defines it."""
+    return os.path.normpath(os.path.join(os.path.dirname(mechanism.loc.file), mechanism.sampler))
+
+
+def load_learned(mechanisms: Iterable["Mechanism"]) -> Dict[str, LearnedMechanism]:
+    """The learned samplers of the mechanisms that name a checkpoint (CheckpointError if one
+    cannot be used: the planner must not fall back silently)."""
+    torch.set_num_threads(1)  # batches of 64: threads cost more than they bring, and workers run side by side
+    out = {}
+    for mechanism in mechanisms:
+        if mechanism.sampler:
+            model, meta = load(checkpoint_path(mechanism), mechanism, mechanism.loc.file)
+            out[mechanism.name] = LearnedMechanism(model, meta)
+    return out

@@ -1,0 +1,192 @@
+"""Learned samplers (samplers/learned/, learning/sampler_*.py, `learn train`): the PointNet++
+pieces, training that learns a rule from labelled values, checkpoints that round-trip and
+refuse another mechanism's definition, ranking that reorders but never drops proposals, and
+the command end to end on a tiny configuration (Center-of-Mass, 4 episodes, 2 epochs)."""
+from __future__ import annotations
+
+import os
+import shutil
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import torch
+
+from pdsketch_mech import learn, plan
+from pdsketch_mech.lang.loader import load_domain
+from pdsketch_mech.learning.sampler_data import param_data, parent_specs
+from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, train_mechanism
+from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
+from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, save
+from pdsketch_mech.samplers.learned.pointnet import EncoderConfig, ball_query, farthest_points
+from pdsketch_mech.samplers.learned.ranked import RankedSampler, walk_order
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TINY = EncoderConfig(centres=(16, 4), radii=(0.4, 0.8), neighbours=8, widths1=(8, 16), widths2=(16, 16), out=16)
+
+
+def test_farthest_points_spread_out_and_ball_query_stays_inside():
+    xyz = torch.tensor([[[0.0, 0, 0], [0.01, 0, 0], [1, 0, 0], [0, 1, 0], [0.02, 0.01, 0]]])
+    chosen = farthest_points(xyz, 3)[0].tolist()
+    assert chosen[0] == 0 and set(chosen[1:]) == {2, 3}  # the far corners before the near points
+    group = ball_query(xyz, xyz[:, :1], radius=0.05, k=4)[0, 0]
+    assert set(group.tolist()) <= {0, 1, 4}               # nothing from outside the ball
+    assert (torch.cdist(xyz[0, group], xyz[0, :1]) <= 0.05).all()
+
+
+def test_roc_auc():
+    assert roc_auc(np.array([0.1, 0.4, 0.35, 0.8]), np.array([0, 0, 1, 1])) == 0.75
+    assert roc_auc(np.array([0.2, 0.9]), np.array([0, 1])) == 1.0
+    assert roc_auc(np.array([0.5, 0.5]), np.array([0, 1])) == 0.5
+    assert roc_auc(np.array([0.5, 0.5]), np.array([1, 1])) is None
+
+
+def synthetic_episodes(count: int, seed: int = 0):
+    """Episodes shaped like self-play's: a block's grasps (object frame) labelled 1 when the
+    gripper is on the block's +x half, then a placement whose parent is the grasp."""
+    rng = np.random.default_rng(seed)
+    episodes = []
+    for e in range(count):
+        n = 12
+        value = np.full((n + 1, 16), np.nan)
+        value[:n, :8] = np.c_[rng.uniform(-0.03, 0.03, (n, 3)), np.tile([0, 0, 0, 1.0], (n, 1)), np.full(n, 0.05)]
+        value[n, :7] = [0.5, 0.0, 0.1, 0, 0, 0, 1]
+        label = np.r_[(value[:n, 0] > 0).astype(np.int8), 1]
+        parents = np.full((n + 1, 12), -1)
+        parents[n, 0] = int(np.flatnonzero(label[:n])[0]) if label[:n].any() else 0
+        episodes.append({
+            "episode_id": np.array([e]), "episode_objects": np.array([["block", "table"]]),
+            "episode_assets": np.array([["block/0", "table"]]), "episode_scales": np.array([[1.0, 1.0]]),
+            "kind": np.array(["grasp"] * n + ["placement"]), "param": np.array(["?g"] * n + ["?p"]),
+            "param_index": np.array([3] * n + [4]), "value": value, "parents": parents, "label": label,
+            "poses": np.tile(np.array([[0.5, 0.0, 0.03, 0, 0, 0, 1], [0.6, 0, 0, 0, 0, 0, 1]]), (n + 1, 1, 1)),
+        })
+    return episodes
+
+
+def test_training_learns_which_grasps_succeed():
+    episodes = synthetic_episodes(30)
+    specs = parent_specs(episodes)
+    assert specs["?p"].parents == (("?g", "grasp"),) and specs["?g"].parents == ()
+    model, reports = train_mechanism(episodes, TrainConfig(epochs=40, encoder=TINY, seed=1))
+    grasp = next(r for r in reports if r.variable == "?g")
+    assert grasp.validation_rows > 0 and grasp.auc is not None and grasp.auc > 0.9, grasp
+    placement = next(r for r in reports if r.variable == "?p")
+    assert placement.positives == 30
+
+
+def test_same_seed_same_weights():
+    episodes = synthetic_episodes(6)
+    a, _ = train_mechanism(episodes, TrainConfig(epochs=2, encoder=TINY, seed=3))
+    b, _ = train_mechanism(episodes, TrainConfig(epochs=2, encoder=TINY, seed=3))
+    for (name, x), (_, y) in zip(a.state_dict().items(), b.state_dict().items()):
+        assert torch.equal(x, y), name
+
+
+@pytest.fixture()
+def com_fragment(tmp_path):
+    """A copy of the Center-of-Mass fragment (and the basis it extends) to write beside."""
+    shutil.copy(os.path.join(ROOT, "domains", "basis.pddl"), tmp_path / "basis.pddl")
+    (tmp_path / "mechanisms").mkdir()
+    path = tmp_path / "mechanisms" / "com.pddl"
+    shutil.copy(os.path.join(ROOT, "domains", "mechanisms", "com.pddl"), path)
+    return str(path)
+
+
+def test_checkpoint_round_trip_and_refusal(com_fragment, tmp_path):
+    mechanism = load_domain([com_fragment]).domain.mechanisms[0]
+    episodes = synthetic_episodes(4)
+    model, _ = train_mechanism(episodes, TrainConfig(epochs=1, encoder=TINY))
+    weights = str(tmp_path / "mechanisms" / "com.samplers.safetensors")
+    save(weights, model, mechanism, {"seed": 0})
+    with open(weights, "rb") as handle:
+        assert not handle.read(64).startswith(b"\x80")  # not a pickle
+    loaded, meta = load(weights, mechanism, com_fragment)
+    assert meta["mechanism"] == "com" and meta["encoder"]["out"] == TINY.out
+    for (name, x), (_, y) in zip(model.state_dict().items(), loaded.state_dict().items()):
+        assert torch.equal(x, y), name
+    changed = replace(mechanism, actions=mechanism.actions[:1])
+    with pytest.raises(CheckpointError, match=r"com\.samplers\.safetensors was trained for another definition .*/com\.pddl;"):
+        load(weights, changed, com_fragment)
+    assert load(weights, replace(mechanism, sampler="elsewhere.safetensors"), com_fragment)  # :sampler is not hashed
+
+
+def test_walk_order_ranks_and_explores_but_keeps_every_proposal():
+    scores = np.array([0.1, 0.9, 0.5, 0.7])
+    assert walk_order(scores, np.random.default_rng(0), explore=0.0) == [1, 3, 2, 0]
+    for seed in range(5):
+        assert sorted(walk_order(scores, np.random.default_rng(seed), explore=0.5)) == [0, 1, 2, 3]
+
+
+class Numbers(Sampler):
+    """Proposes 0..n-1; verifies the even ones."""
+
+    def __init__(self, n):
+        self.n = n
+
+    def propose(self, world, request, rng, budget):
+        return iter(range(self.n))
+
+    def verify(self, world, request, candidate, rng):
+        return candidate if candidate % 2 == 0 else None
+
+
+class ByValue:
+    """A stand-in scorer: higher numbers first."""
+
+    score_seconds: list = []
+
+    def score(self, world, request, variable, proposals):
+        return np.array(proposals, dtype=float)
+
+
+def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.EXPLORE", 0.0)
+    request = SampleRequest("s", (), (), StepContext("grasp", ()))
+    ranked = RankedSampler(Numbers(10), ByValue(), "?g")
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk_order",
+                        lambda scores, rng: list(np.argsort(-scores, kind="stable")))
+    assert list(ranked.draw(None, request, np.random.default_rng(0), budget=10)) == [8, 6, 4, 2, 0]
+    assert ranked.examined == 10
+
+
+def test_the_mechanism_steps_know_their_variables():
+    from pdsketch_mech.lang.loader import load_problem
+    from pdsketch_mech.planner.bilevel import prepare_task
+    from pdsketch_mech.planner.refine import skeleton_steps
+    dom = load_domain([os.path.join(ROOT, "domains", "mechanisms", "hook-use.pddl")])
+    _, problem = load_problem(os.path.join(ROOT, "problems", "hook-use.pddl"), [dom])
+    task, _ = prepare_task(dom, problem, use_mechanisms=True)
+    macro = next(i for i, op in enumerate(task.operators) if op.name == "hook-use" and op.args[:2] == ("hook", "box"))
+    steps = skeleton_steps(task, [macro])
+    roles = {var: ph for ph, var in steps[0].roles}
+    assert {"?g1", "?c", "?p", "?g2"} <= set(roles)
+    assert roles["?g1"] in steps[0].args and roles["?c"] in steps[1].args and roles["?g2"] in steps[3].args
+
+
+@pytest.mark.slow
+def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsys):
+    data = str(tmp_path / "data")
+    assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
+                       "--fragment", com_fragment, "--task", "com"]) == 0
+    folder = os.path.dirname(com_fragment)
+    for suffix in (".samplers.safetensors", ".samplers.json", ".samplers.md", ".samplers.png"):
+        assert os.path.isfile(os.path.join(folder, "com" + suffix)), suffix
+    with open(com_fragment, encoding="utf-8") as handle:
+        assert ':sampler "com.samplers.safetensors"' in handle.read()
+    problem = str(tmp_path / "p.pddl")
+    from pdsketch_mech.envs.generate import sample
+    from pdsketch_mech.envs.tasks import TASKS
+    with open(problem, "w", encoding="utf-8") as handle:
+        handle.write(sample(TASKS["com"], "test", 5).problem_text())
+    capsys.readouterr()
+    result = str(tmp_path / "plan.json")
+    assert plan.main([com_fragment, problem, "--timeout", "120", "--json", result]) == 0
+    import json
+    with open(result, encoding="utf-8") as handle:
+        stats = json.load(handle)["stats"]
+    assert stats["learned_samplers"] == ["com"] and stats["proposals"]["learned"].get("grasp", 0) > 0
+    assert plan.main([com_fragment, problem, "--timeout", "120", "--json", result, "--no-learned-samplers"]) == 0
+    with open(result, encoding="utf-8") as handle:
+        stats = json.load(handle)["stats"]
+    assert stats["learned_samplers"] == "off" and not stats["proposals"]["learned"]
