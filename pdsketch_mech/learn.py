@@ -62,7 +62,7 @@ def _parser() -> ArgumentParser:
     train = commands.add_parser("train", parents=[_selfplay_options()], add_help=False,
                                 help="self-play, then train mechanism NAME's samplers -> checkpoint + report")
     train.add_argument("-h", "--help", action="help", help="show this help message and exit")
-    train.add_argument("--epochs", type=count, default=None, help="training epochs per parameter (default 60)")
+    train.add_argument("--epochs", type=count, default=None, help="training epochs per parameter (default 30)")
     train.add_argument("--checkpoint", metavar="FILE", help="where to write the weights "
                        "(default domains/mechanisms/NAME.samplers.safetensors)")
     return parser

@@ -57,7 +57,10 @@ HOOK = TaskSpec(
         TABLE,
         ObjectSpec("tool", Assets(("l-stick/0", "l-stick/1", "soup-ladle/0", "soup-ladle/1", "hammer/0", "hammer/1",
                                    "spoon/0", "spoon/1"),
-                                  ("caliper/0", "caliper/1", "caliper/2", "l-stick/2", "soup-ladle/2", "hammer/2",
+                                  # Held out: the spatula. Not the caliper: lying flat it cannot be
+                                  # pinched (the Edge premise), so it is a hook only after a push over
+                                  # the edge -- the push-pick-hook task.
+                                  ("spatula/0", "spatula/1", "spatula/2", "l-stick/2", "soup-ladle/2", "hammer/2",
                                    "spoon/2")),
                    xy=(0.5, 0.15), scale=(0.9, 1.15), role="the hook"),
         OUT_OF_REACH_BOX,

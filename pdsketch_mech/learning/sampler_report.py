@@ -33,21 +33,24 @@ def _fmt(value, digits: int = 3) -> str:
 def report_markdown(name: str, reports: Sequence[ParamReport], manifest: Dict[str, object], info: Dict[str, object],
                     png: str) -> str:
     totals = manifest.get("totals", {})
+    selfplay_s = sum(float(r.get("seconds", 0.0)) for r in manifest.get("episodes", []))
     lines: List[str] = [
         f"# Learned samplers of mechanism `{name}`", "",
-        f"Made by `{info['command']}` ({info['seconds_selfplay']:.0f} s of self-play, "
-        f"{info['seconds_training']:.0f} s of training).", "",
+        f"Made by `{info['command']}`: {selfplay_s:.0f} s of self-play episodes (summed over workers), "
+        f"{info['seconds_training']:.0f} s of training.", "",
         f"Self-play: {totals.get('episodes', 0)} episodes on the `{info['task']}` train split, "
         f"{totals.get('successes', 0)} succeeded; {totals.get('samples', 0)} values drawn, "
         f"{totals.get('positives', 0)} of them in a successful plan.", "",
-        "| parameter | kind | rows | positives | validation rows (positives) | validation AUC | balanced accuracy |",
-        "|---|---|---|---|---|---|---|",
+        "| parameter | kind | rows | positives | validation rows (positives) | kept epoch | validation AUC | balanced accuracy |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for r in reports:
         auc = _fmt(r.auc) if not r.skipped else f"not trained: {r.skipped}"
         lines.append(f"| `{r.variable}` | {r.kind} | {r.rows} | {r.positives} | {r.validation_rows} "
-                     f"({r.validation_positives}) | {auc} | {_fmt(r.balanced_accuracy)} |")
-    lines += ["", "Validation holds out whole episodes (seeded); AUC '-' means the held-out rows hold one class only.",
+                     f"({r.validation_positives}) | {r.best_epoch or '-'} | {auc} | {_fmt(r.balanced_accuracy)} |")
+    lines += ["", "Validation holds out whole episodes (seeded); the weights of the epoch with the lowest validation "
+              "loss are kept, so the validation figures are a little optimistic. AUC '-': the held-out rows hold one "
+              "class only.",
               "", f"![learning curves]({png})", ""]
     return "\n".join(lines)
 
