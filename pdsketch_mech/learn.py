@@ -14,12 +14,12 @@
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
         out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped.
-    train NAME [selfplay's options] [--epochs E] [--checkpoint FILE]
+    train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force]
         Self-play as above (only the episodes not on disk yet), then train a classifier per
         grasp, contact and placement parameter on every episode on disk, and write the
         checkpoint (default domains/mechanisms/NAME.samplers.safetensors), its .json
         metadata, a report (.md and .png beside it), and point the fragment's `:sampler` at
-        the checkpoint.
+        the checkpoint. An existing checkpoint is replaced only with --force.
 
 Exit status: 0 written (or already up to date), 1 the demonstration cannot be turned into a
 mechanism (e.g. cut off before its goal holds) or no self-play episode succeeded, 2 bad
@@ -65,6 +65,7 @@ def _parser() -> ArgumentParser:
     train.add_argument("--epochs", type=count, default=None, help="training epochs per parameter (default 30)")
     train.add_argument("--checkpoint", metavar="FILE", help="where to write the weights "
                        "(default domains/mechanisms/NAME.samplers.safetensors)")
+    train.add_argument("--force", action="store_true", help="replace an existing checkpoint")
     return parser
 
 
@@ -232,6 +233,8 @@ def train_command(args) -> int:
     error = output_error(checkpoint, "--checkpoint", (config.fragment,), (".safetensors",))
     if error is not None:
         return _fail(error.message)
+    if os.path.exists(checkpoint) and not args.force:
+        return _fail(f"{checkpoint} exists: --force replaces it (and its metadata and report)")
     started = time.perf_counter()
     status = _selfplay(args, config, out)
     selfplay_s = time.perf_counter() - started

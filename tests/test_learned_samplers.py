@@ -174,6 +174,10 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
         assert os.path.isfile(os.path.join(folder, "com" + suffix)), suffix
     with open(com_fragment, encoding="utf-8") as handle:
         assert ':sampler "com.samplers.safetensors"' in handle.read()
+    capsys.readouterr()
+    assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
+                       "--fragment", com_fragment, "--task", "com"]) == 2  # not replaced without --force
+    assert "exists: --force replaces it" in capsys.readouterr().err
     problem = str(tmp_path / "p.pddl")
     from pdsketch_mech.envs.generate import sample
     from pdsketch_mech.envs.tasks import TASKS
