@@ -194,3 +194,28 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     with open(result, encoding="utf-8") as handle:
         stats = json.load(handle)["stats"]
     assert stats["learned_samplers"] == "off" and not stats["proposals"]["learned"]
+
+
+def test_bench_samplers_table_compares_medians_overall_and_where_both_solved():
+    from pdsketch_mech.bench.samplers import Trial, table
+    trials = [Trial("a", False, "macro", "solved", 10, {"grasp": 10}, {"grasp": 6}),
+              Trial("a", False, "macro+sampler", "solved", 5, {"grasp": 4}, {"grasp": 2}),
+              Trial("b", True, "macro", "unsolved", 120, {"grasp": 50}, {"grasp": 30}),
+              Trial("b", True, "macro+sampler", "solved", 9, {"grasp": 5}, {"grasp": 3})]
+    _, rows, lines = table(trials)
+    assert ["all", "macro", "1/2", "10.0", "30.0", "18.0", "grasp 30.0/18.0"] in rows
+    assert ["held-out categories", "macro+sampler", "1/1", "9.0", "5.0", "3.0", "grasp 5.0/3.0"] in rows
+    assert "all instances: learned samplers simulate 7.20x fewer values" in lines[0]
+    assert "instances solved by both: learned samplers simulate 3.00x fewer values" in lines[1]
+
+
+def test_a_push_is_ranked_by_its_distance():
+    from pdsketch_mech.learning.sampler_data import row_kind, row_value
+    from pdsketch_mech.samplers.learned.encoding import encode_proposal
+    value = np.full((2, 16), np.nan)
+    value[0, :15] = np.r_[np.zeros(14), 0.12]   # a push trajectory, 12 cm
+    value[1, :14] = 0.0                          # a grasp motion (no push distance)
+    ep = {"kind": np.array(["trajectory", "trajectory"]), "value": value}
+    assert row_kind(ep, 0) == "push" and row_kind(ep, 1) == "trajectory"
+    assert row_value(ep, 0, "push").tolist() == [0.12]
+    assert encode_proposal(None, 0.2).tolist() == [0.2]

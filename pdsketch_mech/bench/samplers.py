@@ -98,8 +98,11 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
     header = ["instances", "method", "solved", "median s", "median proposals", "median simulated",
               "per sampler: proposals / simulated (medians)"]
     rows, lines = [], []
+    both = {t.instance for t in trials if t.status == "solved"
+            and all(u.status == "solved" for u in trials if u.instance == t.instance)}
     groups = [("all", list(trials)), ("seen categories", [t for t in trials if not t.held_out]),
-              ("held-out categories", [t for t in trials if t.held_out])]
+              ("held-out categories", [t for t in trials if t.held_out]),
+              ("solved by both", [t for t in trials if t.instance in both])]
     for label, group in groups:
         if not group or (label != "all" and len(group) == len(trials)):
             continue
@@ -111,17 +114,19 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
                             f"{_median([t.simulated.get(n, 0) for t in mine])}" for n in samplers)
             rows.append([label, method, f"{len(solved)}/{len(mine)}", _median([t.time_s for t in solved]),
                          _median([t.proposed for t in mine]), _median([t.evaluated for t in mine]), per])
-    generic = [t for t in trials if t.method == "macro"]
-    learned = [t for t in trials if t.method == "macro+sampler"]
-    if generic and learned:
-        g, lt = statistics.median(t.evaluated for t in generic), statistics.median(t.evaluated for t in learned)
-        gp, lp = statistics.median(t.proposed for t in generic), statistics.median(t.proposed for t in learned)
-        lines.append(f"learned / generic: {g / max(lt, 1e-9):.2f}x fewer values simulated, "
-                     f"{gp / max(lp, 1e-9):.2f}x fewer proposals (medians)")
-        scores = [t.score_ms for t in learned if t.score_ms is not None]
-        if scores:
-            lines.append(f"scoring a batch of proposals: median {statistics.median(scores):.1f} ms "
-                         "(the first batch of a plan includes loading the shapes)")
+    solved_by_both = [t for t in trials if t.instance in both]
+    for label, group in (("all instances", list(trials)), ("instances solved by both", solved_by_both)):
+        generic = [t for t in group if t.method == "macro"]
+        learned = [t for t in group if t.method == "macro+sampler"]
+        if generic and learned:
+            g, lt = statistics.median(t.evaluated for t in generic), statistics.median(t.evaluated for t in learned)
+            gp, lp = statistics.median(t.proposed for t in generic), statistics.median(t.proposed for t in learned)
+            lines.append(f"{label}: learned samplers simulate {g / max(lt, 1e-9):.2f}x fewer values and verify "
+                         f"{gp / max(lp, 1e-9):.2f}x fewer proposals than generic ones (medians)")
+    scores = [t.score_ms for t in trials if t.method == "macro+sampler" and t.score_ms is not None]
+    if scores:
+        lines.append(f"scoring a batch of proposals: median {statistics.median(scores):.1f} ms "
+                     "(the first batch of a plan includes loading the shapes)")
     for t in trials:
         if t.status != "solved":
             lines.append(f"{t.instance} {t.method}: {t.status} ({t.reason})")

@@ -13,7 +13,7 @@ from typing import Dict, List, Sequence, Tuple
 
 import numpy as np
 
-from ..samplers.learned.encoding import RANKABLE
+from ..samplers.learned.encoding import RANKABLE, VALUE_LAYOUT
 from ..samplers.learned.model import ParamSpec, width
 from ..samplers.learned.shapes import size_features, unit_cloud
 from ..world.asset_index import resolve_asset
@@ -45,9 +45,25 @@ class ParamData:
         return np.stack([unit_cloud(u) for u in self.urdfs])
 
 
+def row_kind(ep: Dict[str, np.ndarray], row: int) -> str:
+    """The kind a classifier sees: a trajectory with a push distance is a "push"."""
+    kind = str(ep["kind"][row])
+    if kind == "trajectory" and not np.isnan(ep["value"][row, len(VALUE_LAYOUT["trajectory"]) - 1]):
+        return "push"
+    return kind
+
+
+def row_value(ep: Dict[str, np.ndarray], row: int, kind: str) -> np.ndarray:
+    if kind == "push":
+        return ep["value"][row, len(VALUE_LAYOUT["trajectory"]) - 1:len(VALUE_LAYOUT["trajectory"])]
+    return ep["value"][row, :width(kind)]
+
+
 def canonical(numbers: np.ndarray, kind: str) -> np.ndarray:
     """NaN -> 0 and quaternions with w >= 0 (q and -q are one rotation)."""
     out = np.nan_to_num(np.asarray(numbers, dtype=np.float64))
+    if kind not in QUATERNIONS:
+        return out
     start, stop = QUATERNIONS[kind]
     flip = out[..., stop - 1] < 0
     out[flip, start:stop] *= -1
@@ -71,14 +87,14 @@ def parent_specs(episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[str, ParamSp
     for ep in episodes:
         objects = ep["episode_objects"].shape[1]
         for row in range(len(ep["label"])):
-            kind, var = str(ep["kind"][row]), str(ep["param"][row])
+            kind, var = row_kind(ep, row), str(ep["param"][row])
             if kind not in RANKABLE or not var.startswith("?"):
                 continue
             kinds[var], order[var] = kind, int(ep["param_index"][row])
             for p in ep["parents"][row]:
-                if p >= 0 and str(ep["kind"][p]) in RANKABLE and str(ep["param"][p]).startswith("?"):
+                if p >= 0 and row_kind(ep, p) in RANKABLE and str(ep["param"][p]).startswith("?"):
                     parents.setdefault(var, set()).add(str(ep["param"][p]))
-                    kinds[str(ep["param"][p])] = str(ep["kind"][p])
+                    kinds[str(ep["param"][p])] = row_kind(ep, p)
                     order[str(ep["param"][p])] = int(ep["param_index"][p])
     return {var: ParamSpec(var, kind, tuple((p, kinds[p]) for p in sorted(parents.get(var, ()), key=order.get)),
                            objects)
@@ -97,15 +113,15 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec) -> Pa
         ids = [urdf_ids.setdefault(u, len(urdf_ids)) for u in urdfs]
         sizes = [size_features(u, s) for u, s in zip(urdfs, scales)]
         for row in np.flatnonzero(ep["param"] == spec.variable):
-            if str(ep["kind"][row]) != spec.kind:
+            if row_kind(ep, row) != spec.kind:
                 continue
             by_var = {str(ep["param"][p]): p for p in ep["parents"][row] if p >= 0}  # later ones win
             for k, (var, kind) in enumerate(spec.parents):
                 p = by_var.get(var)
-                parent_rows[k].append(canonical(ep["value"][p, :width(kind)], kind) if p is not None
+                parent_rows[k].append(canonical(row_value(ep, p, kind), kind) if p is not None
                                       else np.zeros(width(kind)))
             cols["present"].append([float(var in by_var) for var, _ in spec.parents])
-            cols["value"].append(canonical(ep["value"][row, :width(spec.kind)], spec.kind))
+            cols["value"].append(canonical(row_value(ep, row, spec.kind), spec.kind))
             cols["cloud"].append(ids)
             cols["sizes"].append(sizes)
             poses = np.array(ep["poses"][row], dtype=np.float64)

@@ -28,10 +28,13 @@ VALUE_LAYOUT: Dict[str, Tuple[str, ...]] = {
     "trajectory": ("q0", "q1", "q2", "q3", "q4", "q5", "q6",  # joints at the end of the final segment
                    "x", "y", "z", "qx", "qy", "qz", "qw",  # the gripper (TCP) pose there, world frame
                    "push"),  # push distance (NaN when not a push)
+    # A push's trajectory as a classifier sees it: the one choice a push sampler makes (the
+    # motion to the contact is planned, the straight push follows the contact's direction).
+    "push": ("distance",),
 }
 
 # Kinds a classifier can rank before verification: their proposals carry the whole value.
-RANKABLE = ("grasp", "contact", "placement")
+RANKABLE = ("grasp", "contact", "placement", "push")
 
 
 def pose_array(pose) -> List[float]:
@@ -64,10 +67,19 @@ def encode_value(world: "World", value: object) -> Tuple[str, np.ndarray]:
     raise TypeError(f"cannot encode a value of type {type(value).__name__}")
 
 
+def encode_as(world: "World", value: object, kind: str) -> np.ndarray:
+    """The numbers of a value in the layout of `kind` (a push trajectory as a "push")."""
+    if kind == "push":
+        return np.array([np.nan if getattr(value, "push_distance", None) is None else value.push_distance])
+    return encode_value(world, value)[1]
+
+
 def encode_proposal(world: "World", proposal: object) -> Optional[np.ndarray]:
     """The numbers of the value a proposal becomes if it verifies (None: not rankable)."""
     if isinstance(proposal, (Grasp, Contact, Placement)):
         return encode_value(world, proposal)[1]
+    if isinstance(proposal, float):  # samplers/trajectory.py PushMotionSampler: a push distance
+        return np.array([proposal])
     if isinstance(proposal, ContactCandidate) and proposal.pushers:
         return np.array(pose_array(matrix_pose(proposal.pushers[0])) + list(proposal.point)
                         + list(proposal.normal) + list(proposal.direction))

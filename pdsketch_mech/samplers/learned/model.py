@@ -30,7 +30,7 @@ SIZE = 3
 # Columns of a value that are world positions, per kind (start, stop): expressed in each
 # object's frame as extra features. A grasp is already in its object's frame.
 ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
-    "grasp": (), "placement": ((0, 3),), "contact": ((0, 3), (7, 10)), "trajectory": ((7, 10),),
+    "grasp": (), "placement": ((0, 3),), "contact": ((0, 3), (7, 10)), "trajectory": ((7, 10),), "push": (),
 }
 
 

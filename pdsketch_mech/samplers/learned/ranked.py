@@ -20,7 +20,7 @@ import torch
 
 from ..interface import Sampler, SampleRequest
 from .checkpoint import load
-from .encoding import encode_proposal, encode_value, pose_array
+from .encoding import encode_as, encode_proposal, pose_array
 from .model import Batch, MechanismClassifiers, ParamSpec, width
 from .shapes import size_features, unit_cloud
 
@@ -54,7 +54,7 @@ class LearnedMechanism:
         parents, present = [], []
         for variable, kind in spec.parents:
             value = by_variable.get(variable)
-            numbers = encode_value(world, value)[1] if value is not None else np.zeros(width(kind))
+            numbers = encode_as(world, value, kind) if value is not None else np.zeros(width(kind))
             parents.append(torch.tensor(np.nan_to_num(numbers), dtype=torch.float32).expand(rows, -1))
             present.append(float(value is not None))
         return Batch(torch.zeros(rows, width(spec.kind)), parents,
@@ -117,11 +117,13 @@ class RankedSampler(Sampler):
 
     def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
              budget: Optional[int] = None) -> Iterator[object]:
-        limit = self.budget if budget is None else budget
-        proposals = self.generic.propose(world, request, rng, limit)
+        limit = self.budget if budget is None else budget  # proposals verified, as the generic draw
+        # A batch is BATCH proposals even when few are verified (a push verifies one distance
+        # per visit, out of 64 proposed and ranked).
+        proposals = self.generic.propose(world, request, rng, max(limit, BATCH))
         examined = 0
         while examined < limit and time.perf_counter() <= request.deadline:
-            batch = list(islice(proposals, min(BATCH, limit - examined)))
+            batch = list(islice(proposals, BATCH))
             if not batch:
                 return
             scores = self.learned.score(world, request, self.variable, batch)
