@@ -142,7 +142,7 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
     except (KeyError, ValueError, IndexError) as exc:
         return _fail(f"{args.demo}: the recording is malformed ({type(exc).__name__}: {exc})")
     print(timeline_text(extraction))
-    text = fragment_text(extraction, out, command)
+    text = fragment_text(extraction, out, command, sampler=_named_sampler(out, name))
     try:
         fragment = check_fragment(text, out)
     except PddlError as exc:  # a bug, not the user's fault: say so plainly
@@ -165,6 +165,19 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
         frames = _render(extraction, args.render)
         print(f"wrote {args.render} (key frames {', '.join(map(str, frames))})", file=sys.stderr)
     return EXIT_OK
+
+
+def _named_sampler(path: str, name: str) -> Optional[str]:
+    """The learned sampler an existing fragment's mechanism `name` names (kept on re-extraction)."""
+    from .lang.nodes import Domain
+    from .lang.parser import parse_file
+    try:
+        existing = parse_file(path) if os.path.isfile(path) else None
+    except PddlError:
+        return None
+    if not isinstance(existing, Domain):
+        return None
+    return next((m.sampler for m in existing.mechanisms if m.name == name), None)
 
 
 def _what_differs(out: str, existing_text: str, new_text: str, fragment) -> str:

@@ -165,8 +165,9 @@ def test_committed_fragment_is_what_extraction_writes(demo):
     path = os.path.join(MECHANISMS_DIR, f"{name}.pddl")
     npz = os.path.join(DEMOS_DIR, f"{demo}.npz")
     command = learn_cli._command_line(npz, name, path, path)
+    sampler = learn_cli._named_sampler(path, name)   # `learn train` adds it; extraction keeps it
     with open(path, encoding="utf-8") as handle:
-        assert handle.read() == fragment_text(extracted(demo), path, command)
+        assert handle.read() == fragment_text(extracted(demo), path, command, sampler=sampler)
     loaded = load_domain([path])                  # parses and type-checks with the basis
     assert loaded.names == {"mech-basis", name} and [m.name for m in loaded.domain.mechanisms] == [name]
 
@@ -252,6 +253,13 @@ def test_cli_writes_the_timeline_and_the_fragment_and_keeps_a_different_one(tmp_
     forced = run_cli("extract", os.path.join(DEMOS_DIR, "hook.npz"), "--name", "hook-use", "--out", str(out),
                      "--force")
     assert forced.returncode == 0 and "(not (= ?tool ?target))" in out.read_text()
+    # A fragment that names a learned sampler keeps naming it when re-extracted.
+    (tmp_path / "hook-use.samplers.safetensors").write_bytes(b"")
+    out.write_text(out.read_text().replace("(grasp ?target ?support ?g2 ?t4))))",
+                                           '(grasp ?target ?support ?g2 ?t4))\n    :sampler "hook-use.samplers.safetensors"))'))
+    assert read_domain_file(str(out)).mechanisms[0].sampler == "hook-use.samplers.safetensors"
+    kept = run_cli("extract", os.path.join(DEMOS_DIR, "hook.npz"), "--name", "hook-use", "--out", str(out), "--force")
+    assert kept.returncode == 0 and kept.stderr.startswith("unchanged "), kept.stderr
 
 
 @pytest.mark.parametrize("args, message", [

@@ -61,7 +61,8 @@ def test_each_fragment_with_generic_samplers_solves_its_canonical_instance(tmp_p
     problem.write_text(sample(TASKS[demo], "train", None).problem_text())
     out = tmp_path / "plan.json"
     result = subprocess.run([sys.executable, "-m", "pdsketch_mech.plan", os.path.join(MECHANISMS_DIR, f"{name}.pddl"),
-                             str(problem), "--seed", "0", "--timeout", str(MACRO_TIMEOUT[demo]), "--json", str(out)],
+                             str(problem), "--seed", "0", "--timeout", str(MACRO_TIMEOUT[demo]), "--json", str(out),
+                             "--no-learned-samplers"],
                             cwd=ROOT, capture_output=True, text=True, env={**os.environ, "PYTHONPATH": ROOT})
     assert result.returncode == 0, result.stderr
     document = json.loads(out.read_text())

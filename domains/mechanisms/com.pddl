@@ -1,6 +1,7 @@
 ; Mechanism com: extracted from the demonstration com (Center-of-Mass, instance com-canonical) by
 ;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/com.npz --name com
-; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
+; Do not edit by hand: re-extract. Generic samplers fill its parameters until `learn train` names a
+; learned sampler (:sampler); re-extracting keeps that name.
 ; Steps (demonstration time):
 ;   1. (grasp flat table) at 1.70 s
 ;   2. (place flat pedestal) at 3.33 s

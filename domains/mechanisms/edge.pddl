@@ -1,6 +1,7 @@
 ; Mechanism edge: extracted from the demonstration edge (Edge, instance edge-canonical) by
 ;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/edge.npz --name edge
-; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
+; Do not edit by hand: re-extract. Generic samplers fill its parameters until `learn train` names a
+; learned sampler (:sampler); re-extracting keeps that name.
 ; Steps (demonstration time):
 ;   1. (transit-cont flat table) at 1.93 s
 ;   2. (grasp flat table) at 5.95 s
@@ -16,4 +17,5 @@
     :certified (holding ?target)
     :actions (
       (transit-cont ?target ?support ?c ?t1)
-      (grasp ?target ?support ?g ?t2))))
+      (grasp ?target ?support ?g ?t2))
+    :sampler "edge.samplers.safetensors"))

@@ -1,6 +1,7 @@
 ; Mechanism hook-use: extracted from the demonstration hook (Hook, instance hook-canonical) by
 ;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/hook.npz --name hook-use
-; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
+; Do not edit by hand: re-extract. Generic samplers fill its parameters until `learn train` names a
+; learned sampler (:sampler); re-extracting keeps that name.
 ; Steps (demonstration time):
 ;   1. (grasp tool table) at 2.53 s
 ;   2. (move-cont tool target table) at 4.42 s
@@ -25,4 +26,5 @@
       (grasp ?tool ?support ?g1 ?t1)
       (move-cont ?tool ?target ?support ?c ?t2)
       (place ?tool ?support ?p ?t3)
-      (grasp ?target ?support ?g2 ?t4))))
+      (grasp ?target ?support ?g2 ?t4))
+    :sampler "hook-use.samplers.safetensors"))

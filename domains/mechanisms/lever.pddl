@@ -1,6 +1,7 @@
 ; Mechanism lever: extracted from the demonstration lever (Lever, instance lever-canonical) by
 ;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/lever.npz --name lever
-; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
+; Do not edit by hand: re-extract. Generic samplers fill its parameters until `learn train` names a
+; learned sampler (:sampler); re-extracting keeps that name.
 ; Steps (demonstration time):
 ;   1. (grasp weight table) at 2.42 s
 ;   2. (place weight plate) at 6.15 s

@@ -1,6 +1,7 @@
 ; Mechanism slope-blocker: extracted from the demonstration slope-blocker (Slope-and-Blocker, instance slope-blocker-canonical) by
 ;   python -m pdsketch_mech.learn extract domains/mechanisms/demos/slope-blocker.npz --name slope-blocker
-; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.
+; Do not edit by hand: re-extract. Generic samplers fill its parameters until `learn train` names a
+; learned sampler (:sampler); re-extracting keeps that name.
 ; Steps (demonstration time):
 ;   1. (grasp blocker table) at 1.52 s
 ;   2. (place blocker slope) at 3.42 s

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Dict, List, Optional, Sequence, Set
 
 from ..lang.errors import PddlError
@@ -99,14 +99,16 @@ def extract(recording: Recording, name: str, source: str = "", basis: Optional[D
     return Extraction(name, source, problem, seg, ex, lifted)
 
 
-def fragment_domain(extraction: Extraction, out_path: str, basis_path: str = BASIS) -> Domain:
+def fragment_domain(extraction: Extraction, out_path: str, basis_path: str = BASIS,
+                    sampler: Optional[str] = None) -> Domain:
     basis, folder = os.path.abspath(basis_path), os.path.dirname(os.path.abspath(out_path))
     # Relative when the two share more than the file system's root (a committed fragment
     # must not name this checkout's absolute path); absolute otherwise.
     shared = os.path.commonpath([basis, folder])
     extends = os.path.relpath(basis, folder) if shared != os.path.dirname(shared) else basis
+    mechanism = replace(extraction.lifted.mechanism, sampler=sampler)
     return Domain(extraction.name, requirements=(":mechanisms",), extends=(extends.replace(os.sep, "/"),),
-                  mechanisms=(extraction.lifted.mechanism,))
+                  mechanisms=(mechanism,))
 
 
 def header_comment(extraction: Extraction, command: str) -> List[str]:
@@ -117,7 +119,8 @@ def header_comment(extraction: Extraction, command: str) -> List[str]:
              f"{h.get('name', os.path.basename(extraction.source))} ({h.get('mechanism', '?')}, instance "
              f"{h.get('instance', '?')}) by",
              f";   {command}",
-             "; Do not edit by hand: re-extract. Generic samplers fill its parameters until one is learned.",
+             "; Do not edit by hand: re-extract. Generic samplers fill its parameters until `learn train` names a",
+             "; learned sampler (:sampler); re-extracting keeps that name.",
              "; Steps (demonstration time):"]
     seg = extraction.segmentation
     for k, st in enumerate(extraction.explanation.steps, 1):
@@ -128,9 +131,11 @@ def header_comment(extraction: Extraction, command: str) -> List[str]:
     return lines
 
 
-def fragment_text(extraction: Extraction, out_path: str, command: str, basis_path: str = BASIS) -> str:
-    """The fragment's text: comment lines, then the writer's output."""
-    body = write_domain(fragment_domain(extraction, out_path, basis_path))
+def fragment_text(extraction: Extraction, out_path: str, command: str, basis_path: str = BASIS,
+                  sampler: Optional[str] = None) -> str:
+    """The fragment's text: comment lines, then the writer's output; `sampler`: the learned
+    sampler's file the mechanism names (kept from the fragment being replaced)."""
+    body = write_domain(fragment_domain(extraction, out_path, basis_path, sampler))
     return "\n".join(header_comment(extraction, command)) + "\n" + body
 
 

@@ -52,8 +52,7 @@ def point_fragment_at(fragment: str, name: str, checkpoint: str) -> bool:
     for line in text.splitlines():
         if not line.startswith(";"):
             break
-        header.append(line.replace("Generic samplers fill its parameters until one is learned.",
-                                   "Its sampler was learned by `python -m pdsketch_mech.learn train`."))
+        header.append(line)
     write_text(fragment, "\n".join(header) + ("\n" if header else "") + write_domain(replace(domain, mechanisms=mechanisms)))
     return True
 
