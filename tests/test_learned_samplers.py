@@ -14,7 +14,7 @@ import torch
 
 from pdsketch_mech import learn, plan
 from pdsketch_mech.lang.loader import load_domain
-from pdsketch_mech.learning.sampler_data import param_data, parent_specs
+from pdsketch_mech.learning.sampler_data import parent_specs
 from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, train_mechanism
 from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
 from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, save
