@@ -141,13 +141,15 @@ class ByValue:
 
 
 def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
-    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.EXPLORE", 0.0)
-    request = SampleRequest("s", (), (), StepContext("grasp", ()))
-    ranked = RankedSampler(Numbers(10), ByValue(), "?g")
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk_order",
                         lambda scores, rng: list(np.argsort(-scores, kind="stable")))
-    assert list(ranked.draw(None, request, np.random.default_rng(0), budget=10)) == [8, 6, 4, 2, 0]
-    assert ranked.examined == 10
+    request = SampleRequest("s", (), (), StepContext("grasp", ()))
+    proposals = RankedSampler(Numbers(10), ByValue(), "?t", pool=0)   # a push: rank proposals
+    assert list(proposals.draw(None, request, np.random.default_rng(0), budget=10)) == [8, 6, 4, 2, 0]
+    assert proposals.examined == 10
+    pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3)      # a grasp: rank verified values
+    assert list(pooled.draw(None, request, np.random.default_rng(0), budget=10)) == [4, 2, 0, 8, 6]
+    assert pooled.examined == 10
 
 
 def test_the_mechanism_steps_know_their_variables():

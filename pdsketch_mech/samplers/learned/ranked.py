@@ -1,12 +1,12 @@
-"""A mechanism's learned samplers at planning time: rank a generic sampler's proposals.
+"""A mechanism's learned samplers at planning time: rank what a generic sampler draws.
 
-For a mechanism step whose parameter has a classifier, the step's stream draws a batch of
-proposals from its generic sampler (cheap geometry), scores the batch in one forward pass
-in the step's context (the mechanism's objects where they are now, the values its earlier
-steps drew), and verifies the proposals best first. A share of the walk (EXPLORE) takes
-proposals at random from the rest, and every proposal of the batch is still verified in the
-end: the ranking reorders, it never removes, so the planner stays as complete as with the
-generic sampler alone.
+For a mechanism step whose parameter has a classifier, the step's stream takes a batch from
+its generic sampler -- verified values for grasps, contacts and placements, proposed
+distances for pushes (RankedSampler says why) -- scores the batch in one forward pass in the
+step's context (the mechanism's objects where they are now, the values its earlier steps
+drew), and goes through it best first. A share of the walk (EXPLORE) takes one at random
+from the rest instead, and every member of a batch is still used in the end: the ranking
+reorders, it never removes, so the planner stays as complete as with the generic sampler.
 """
 from __future__ import annotations
 
@@ -28,7 +28,8 @@ if TYPE_CHECKING:
     from ...lang.nodes import Mechanism
     from ...world.world import World
 
-BATCH = 64        # proposals scored together
+BATCH = 64        # proposals scored together (pushes)
+POOL = 8          # verified values scored together (grasps, contacts, placements)
 EXPLORE = 0.2     # chance that the next proposal verified is a random one rather than the best left
 
 
@@ -103,11 +104,50 @@ def walk_order(scores: np.ndarray, rng: np.random.Generator, explore: float = EX
 
 
 class RankedSampler(Sampler):
-    """A generic sampler whose proposals are verified in the order a classifier ranks them."""
+    """A generic sampler whose values are yielded in the order a classifier ranks them.
 
-    def __init__(self, generic: Sampler, learned: LearnedMechanism, variable: str):
+    Two ways, by what the classifier was trained on. Self-play records values, i.e.
+    proposals that passed verification, so a grasp, contact or placement classifier has
+    never seen an unreachable grasp and may rank one first: those kinds verify proposals in
+    the generic order until POOL values are found and yield the pool best first (fewer
+    values simulated; about as many verified). A push's one choice, its distance, is known
+    before its motion is planned and nearly always verifies: pushes rank BATCH proposed
+    distances and verify the best first."""
+
+    def __init__(self, generic: Sampler, learned: LearnedMechanism, variable: str, pool: Optional[int] = None):
         self.generic, self.learned, self.variable = generic, learned, variable
         self.budget = generic.budget
+        if pool is None:
+            pool = 0 if learned.model.classifier(variable).spec.kind == "push" else POOL
+        self.pool = pool  # 0: rank proposals
+
+    def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
+             budget: Optional[int] = None) -> Iterator[object]:
+        if not self.pool:
+            yield from self._draw_proposals(world, request, rng, budget)
+            return
+        limit = self.budget if budget is None else budget
+        proposals = self.generic.propose(world, request, rng, limit)
+        examined = 0
+        while examined < limit and time.perf_counter() <= request.deadline:
+            pool = []
+            for candidate in proposals:
+                if examined >= limit or time.perf_counter() > request.deadline:
+                    break
+                examined += 1
+                self.examined += 1
+                value = self.generic.verify(world, request, candidate, rng)
+                if value is not None:
+                    pool.append(value)
+                    if len(pool) >= self.pool:
+                        break
+            else:
+                limit = examined  # the proposals ran out: this pool is the last
+            if not pool:
+                return
+            scores = self.learned.score(world, request, self.variable, pool)
+            for index in walk_order(scores, rng):
+                yield pool[index]
 
     def propose(self, world, request, rng, budget):
         return self.generic.propose(world, request, rng, budget)
@@ -115,8 +155,8 @@ class RankedSampler(Sampler):
     def verify(self, world, request, candidate, rng):
         return self.generic.verify(world, request, candidate, rng)
 
-    def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
-             budget: Optional[int] = None) -> Iterator[object]:
+    def _draw_proposals(self, world: "World", request: SampleRequest, rng: np.random.Generator,
+                        budget: Optional[int] = None) -> Iterator[object]:
         limit = self.budget if budget is None else budget  # proposals verified, as the generic draw
         # A batch is BATCH proposals even when few are verified (a push verifies one distance
         # per visit, out of 64 proposed and ranked).
