@@ -27,4 +27,5 @@
       (grasp ?blocker ?support ?g1 ?t1)
       (place ?blocker ?surface ?p1 ?t2)
       (grasp ?target ?support ?g2 ?t3)
-      (place ?target ?surface ?p2 ?t4))))
+      (place ?target ?surface ?p2 ?t4))
+    :sampler "slope-blocker.samplers.safetensors"))
