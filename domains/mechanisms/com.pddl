@@ -18,4 +18,5 @@
     :certified (and (support ?target ?surface) (not (support ?target ?support)) (handempty))
     :actions (
       (grasp ?target ?support ?g ?t1)
-      (place ?target ?surface ?p ?t2))))
+      (place ?target ?surface ?p ?t2))
+    :sampler "com.samplers.safetensors"))
