@@ -89,7 +89,9 @@ def com_fragment(tmp_path):
     shutil.copy(os.path.join(ROOT, "domains", "basis.pddl"), tmp_path / "basis.pddl")
     (tmp_path / "mechanisms").mkdir()
     path = tmp_path / "mechanisms" / "com.pddl"
-    shutil.copy(os.path.join(ROOT, "domains", "mechanisms", "com.pddl"), path)
+    with open(os.path.join(ROOT, "domains", "mechanisms", "com.pddl"), encoding="utf-8") as handle:
+        text = handle.read()  # as extracted: without the committed checkpoint's :sampler line
+    path.write_text(text.replace('\n    :sampler "com.samplers.safetensors"', ""))
     return str(path)
 
 
