@@ -22,8 +22,8 @@
         the checkpoint. An existing checkpoint is replaced only with --force.
 
 Exit status: 0 written (or already up to date), 1 the demonstration cannot be turned into a
-mechanism (e.g. cut off before its goal holds) or no self-play episode succeeded, 2 bad
-input (one `error:` line).
+mechanism (e.g. cut off before its goal holds), no self-play episode succeeded, or no
+parameter had a value in a successful plan to train on; 2 bad input (one `error:` line).
 """
 from __future__ import annotations
 
