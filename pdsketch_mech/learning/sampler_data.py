@@ -124,10 +124,7 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec) -> Pa
             cols["value"].append(canonical(row_value(ep, row, spec.kind), spec.kind))
             cols["cloud"].append(ids)
             cols["sizes"].append(sizes)
-            poses = np.array(ep["poses"][row], dtype=np.float64)
-            flip = poses[:, 6] < 0
-            poses[flip, 3:7] *= -1
-            cols["poses"].append(poses)
+            cols["poses"].append(canonical(ep["poses"][row], "placement"))  # poses in a placement's layout
             cols["label"].append(int(ep["label"][row]))
             cols["episode"].append(int(ep["episode_id"][0]))
     n = len(cols["label"])

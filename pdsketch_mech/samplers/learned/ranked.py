@@ -45,10 +45,10 @@ class LearnedMechanism:
         return variable in self.model
 
     def context(self, world: "World", request: SampleRequest, spec: ParamSpec, rows: int) -> Batch:
-        """The step's context for `rows` proposals (values filled in by the caller)."""
+        """The step's context for `rows` proposals (values filled in by the caller). No clouds:
+        the shapes' embeddings are cached (`_shape_vectors`) and passed to the classifier."""
         objects = request.step.mechanism_args
         bodies = [world.bodies[o] for o in objects]
-        clouds = torch.from_numpy(np.stack([unit_cloud(b.urdf) for b in bodies]))
         sizes = torch.tensor([size_features(b.urdf, b.scale) for b in bodies], dtype=torch.float32)
         poses = torch.tensor([pose_array(world.pose(o)) for o in objects], dtype=torch.float32)
         by_variable = {request.step.role(k): v for k, v in request.parents.items()}
@@ -59,7 +59,7 @@ class LearnedMechanism:
             parents.append(torch.tensor(np.nan_to_num(numbers), dtype=torch.float32).expand(rows, -1))
             present.append(float(value is not None))
         return Batch(torch.zeros(rows, width(spec.kind)), parents,
-                     torch.tensor(present, dtype=torch.float32).expand(rows, -1), clouds,
+                     torch.tensor(present, dtype=torch.float32).expand(rows, -1), torch.zeros(0, 0, 3),
                      torch.arange(len(objects)).expand(rows, -1), sizes.expand(rows, -1, -1),
                      poses.expand(rows, -1, -1))
 
