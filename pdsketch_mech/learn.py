@@ -14,12 +14,14 @@
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
         out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped.
-    train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force]
+    train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force] [--compare N]
         Self-play as above (only the episodes not on disk yet), then train a classifier per
         grasp, contact and placement parameter on every episode on disk, and write the
         checkpoint (default domains/mechanisms/NAME.samplers.safetensors), its .json
         metadata, a report (.md and .png beside it), and point the fragment's `:sampler` at
-        the checkpoint. An existing checkpoint is replaced only with --force.
+        the checkpoint. An existing checkpoint is replaced only with --force. --compare N then
+        plans N test instances with the generic and the learned samplers and adds the table and
+        the per-sampler breakdown (the paper's Fig. 8) to the report.
 
 Exit status: 0 written (or already up to date), 1 the demonstration cannot be turned into a
 mechanism (e.g. cut off before its goal holds), no self-play episode succeeded, or no
@@ -36,7 +38,7 @@ from typing import List, Optional, Sequence
 
 from .cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit, seconds,
-    seed, write_text,
+    seed, whole, write_text,
 )
 from .lang.errors import PddlError, escape
 
@@ -66,6 +68,10 @@ def _parser() -> ArgumentParser:
     train.add_argument("--checkpoint", metavar="FILE", help="where to write the weights "
                        "(default domains/mechanisms/NAME.samplers.safetensors)")
     train.add_argument("--force", action="store_true", help="replace an existing checkpoint")
+    train.add_argument("--compare", type=whole, default=0, metavar="N",
+                       help="then plan N test instances with the generic and the learned samplers (120 s each) and "
+                            "add the table and the per-sampler breakdown (the paper's Fig. 8) to the report "
+                            "(default 0: skip; `bench samplers NAME --report` does it later)")
     return parser
 
 
@@ -263,7 +269,21 @@ def train_command(args) -> int:
                                  default_config(args.epochs, args.seed), open_folder(out, config.identity()), info)
     except StoreError as exc:
         return _fail(str(exc))
+    if trained and args.compare:
+        _compare(mechanism.name, config, checkpoint, args.compare)
     return EXIT_OK if trained else EXIT_UNSOLVED
+
+
+def _compare(name: str, config, checkpoint: str, instances: int) -> None:
+    """Generic vs learned samplers on test instances, into the learning report (Fig. 8)."""
+    from .bench import samplers
+    from .learning.train_command import shown
+    print(f"compare {name}: {instances} test instances, generic then learned samplers", file=sys.stderr)
+    trials = samplers.run_samplers(config.task, config.fragment, instances, "test", 0, 120.0)
+    report = checkpoint[:-len(".safetensors")] + ".md"
+    command = f"python -m pdsketch_mech.bench samplers {name} --instances {instances} --timeout 120 --report"
+    png = samplers.add_to_report(trials, report, name, command)
+    print(f"compare {name}: added the table to {shown(report)}, the breakdown to {shown(png)}", file=sys.stderr)
 
 
 def _prepare_selfplay(args):

@@ -172,10 +172,12 @@ def test_the_mechanism_steps_know_their_variables():
 def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsys):
     data = str(tmp_path / "data")
     assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
-                       "--fragment", com_fragment, "--task", "com"]) == 0
+                       "--fragment", com_fragment, "--task", "com", "--compare", "1"]) == 0
     folder = os.path.dirname(com_fragment)
-    for suffix in (".samplers.safetensors", ".samplers.json", ".samplers.md", ".samplers.png"):
+    for suffix in (".samplers.safetensors", ".samplers.json", ".samplers.md", ".samplers.png", ".samplers-fig8.png"):
         assert os.path.isfile(os.path.join(folder, "com" + suffix)), suffix
+    with open(os.path.join(folder, "com.samplers.md"), encoding="utf-8") as handle:
+        assert "| all | macro+sampler | 1/1 |" in handle.read()  # --compare: the test instance, planned both ways
     with open(com_fragment, encoding="utf-8") as handle:
         assert ':sampler "com.samplers.safetensors"' in handle.read()
     capsys.readouterr()
@@ -223,3 +225,30 @@ def test_a_push_is_ranked_by_its_distance():
     assert row_kind(ep, 0) == "push" and row_kind(ep, 1) == "trajectory"
     assert row_value(ep, 0, "push").tolist() == [0.12]
     assert encode_proposal(None, 0.2).tolist() == [0.2]
+
+
+def test_the_comparison_goes_into_the_learning_report_once(tmp_path):
+    from pdsketch_mech.bench.samplers import REPORT_HEADING, Trial, add_to_report
+    report = tmp_path / "hook-use.samplers.md"
+    report.write_text("# Learned samplers of mechanism `hook-use`\n\n| parameter | AUC |\n|---|---|\n")
+    trials = [Trial("a", False, "macro", "solved", 10, {"grasp": 10, "contact": 40}, {"grasp": 6, "contact": 9}),
+              Trial("a", False, "macro+sampler", "solved", 5, {"grasp": 4, "contact": 12}, {"grasp": 2, "contact": 1})]
+    png = add_to_report(trials, str(report), "hook-use", "python -m pdsketch_mech.bench samplers hook-use --report")
+    assert png == str(tmp_path / "hook-use.samplers-fig8.png") and os.path.getsize(png) > 0
+    text = report.read_text()
+    assert text.startswith("# Learned samplers of mechanism `hook-use`") and "| parameter | AUC |" in text
+    assert "| all | macro+sampler | 1/1 | 5.0 | 16.0 | 3.0 |" in text and "hook-use.samplers-fig8.png" in text
+    trials[1] = replace(trials[1], status="unsolved", reason="timed out")
+    add_to_report(trials, str(report), "hook-use", "again")
+    text = report.read_text()
+    assert text.count(REPORT_HEADING) == 1 and "| all | macro+sampler | 0/1 |" in text and "| parameter | AUC |" in text
+
+
+def test_bench_samplers_report_needs_a_learned_sampler(tmp_path, capsys):
+    from pdsketch_mech.bench.__main__ import main
+    fragment = tmp_path / "edge.pddl"
+    text = open(os.path.join("domains", "mechanisms", "edge.pddl"), encoding="utf-8").read()
+    fragment.write_text(text.replace('\n    :sampler "edge.samplers.safetensors"', "")
+                        .replace('"../basis.pddl"', '"' + os.path.abspath("domains/basis.pddl") + '"'))
+    assert main(["samplers", "edge", "--fragment", str(fragment), "--task", "edge", "--report"]) == 2
+    assert "names no learned sampler for edge" in capsys.readouterr().err

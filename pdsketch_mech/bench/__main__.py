@@ -19,25 +19,9 @@ from ..cli import (
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
 from . import ipc
+from .tables import render_markdown, render_text
 
 INSTALL_HINT = "pyperplan is not installed; it is a benchmark-only dependency: pip install -e '.[bench]'"
-
-
-def render_text(header: List[str], cells: List[List[str]], lines: List[str]) -> str:
-    """Fixed-width table (first column left-aligned, the rest right-aligned), then `lines`."""
-    widths = [max(len(row[i]) for row in [header] + cells) for i in range(len(header))]
-
-    def fmt(row: List[str]) -> str:
-        return "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(row, widths)))
-
-    rule = "-" * len(fmt(header))
-    return "\n".join([fmt(header), rule] + [fmt(row) for row in cells] + [rule] + lines) + "\n"
-
-
-def render_markdown(header: List[str], cells: List[List[str]], lines: List[str]) -> str:
-    """The same table and lines as markdown (a pipe table and a bullet list)."""
-    rows = [header, [":---"] + ["---:"] * (len(header) - 1)] + cells
-    return "\n".join("| " + " | ".join(row) + " |" for row in rows) + "\n\n" + "".join(f"- {x}\n" for x in lines)
 
 
 def run_ipc_command(args: argparse.Namespace) -> int:
@@ -210,6 +194,9 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     task = args.task or task_of(fragment, args.name)
     if task is None:
         raise ipc.BenchError(f"{args.name}: no task distribution of that name or of its demonstration; give --task")
+    report = samplers.report_of(fragment, args.name) if args.report else None
+    if report and args.split != "test":
+        raise ipc.BenchError("--report: the learning report compares on the test split (drop --split)")
     keep = _keep_folder(args.keep)
     trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep)
     header, cells, lines = samplers.table(trials)
@@ -219,6 +206,11 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     if args.plot:
         samplers.plot(trials, args.plot, f"mechanism {args.name}: generic vs learned samplers, "
                                          f"{args.instances} {args.split} instances")
+    if report:
+        command = f"python -m pdsketch_mech.bench samplers {args.name} --instances {args.instances} " \
+                  f"--timeout {args.timeout:g} --report"
+        png = samplers.add_to_report(trials, report, args.name, command)
+        print(f"added the comparison to {report} ({png})")
     _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,
                                 "instances": args.instances, "seed": args.seed, "timeout_s": args.timeout,
                                 "trials": [asdict(t) for t in trials], "lines": lines})
@@ -304,6 +296,9 @@ def build_parser() -> argparse.ArgumentParser:
     learned.add_argument("--json", metavar="FILE", help="write every trial and the figures as JSON")
     learned.add_argument("--markdown", metavar="FILE", help="write the table as markdown")
     learned.add_argument("--plot", metavar="FILE.png", help="per-sampler breakdown, generic vs learned (Fig. 8)")
+    learned.add_argument("--report", action="store_true",
+                         help="also put the table and Fig. 8 into the mechanism's learning report (the .md beside "
+                              "its checkpoint; a comparison written before is replaced)")
     learned.set_defaults(func=run_samplers_command)
     return parser
 

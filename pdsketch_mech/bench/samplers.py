@@ -158,3 +158,41 @@ def plot(trials: Sequence[Trial], path: str, title: str) -> None:
     with atomic_file(path, binary=True, suffix=".png") as handle:
         fig.savefig(handle, format="png", dpi=90)
     plt.close(fig)
+
+
+def report_of(fragment: str, name: str) -> str:
+    """The learning report (NAME.samplers.md) of the checkpoint mechanism `name` names in `fragment`."""
+    from ..lang.parser import parse_file
+    from ..samplers.learned.ranked import checkpoint_path
+    from .ipc import BenchError
+    mechanisms = [m for m in getattr(parse_file(fragment), "mechanisms", ()) if m.name == name]
+    if not mechanisms or not mechanisms[0].sampler:
+        raise BenchError(f"--report: {fragment} names no learned sampler for {name} (learn train {name} writes one)")
+    report = checkpoint_path(mechanisms[0])[:-len(".safetensors")] + ".md"
+    if not os.path.isfile(report):
+        raise BenchError(f"--report: {report}: no such file (learn train {name} writes it)")
+    return report
+
+
+REPORT_HEADING = "## Generic vs learned samplers on test instances (the paper's Fig. 8)"
+
+
+def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str) -> str:
+    """Put the comparison into a mechanism's learning report (NAME.samplers.md): the table,
+    and the per-sampler breakdown drawn beside it (NAME.samplers-fig8.png). A section written
+    before is replaced, the rest of the report kept. Returns the PNG's path."""
+    from ..cli import write_text
+    from .tables import render_markdown
+    png = report[:-len(".md")] + "-fig8.png"
+    instances = len({t.instance for t in trials})
+    plot(trials, png, f"mechanism {name}: samples per sampler, generic vs learned ({instances} test instances)")
+    header, cells, lines = table(trials)
+    with open(report, encoding="utf-8") as handle:
+        text = handle.read()
+    kept = text.split(REPORT_HEADING)[0].rstrip("\n")
+    section = (f"{REPORT_HEADING}\n\nMade by `{command}`: each instance planned with the mechanism's generic "
+               "samplers (Macro) and with the learned ones (Macro+Sampler); every solved plan replayed in a fresh "
+               "process.\n\n" + render_markdown(header, cells, lines)
+               + f"\n![per-sampler breakdown]({os.path.basename(png)})\n")
+    write_text(report, kept + "\n\n" + section)
+    return png
