@@ -14,8 +14,8 @@ import torch
 
 from pdsketch_mech import learn, plan
 from pdsketch_mech.lang.loader import load_domain
-from pdsketch_mech.learning.sampler_data import parent_specs
-from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, train_mechanism
+from pdsketch_mech.learning.sampler_data import param_data, parent_specs
+from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, to_batch, train_mechanism
 from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
 from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, save
 from pdsketch_mech.samplers.learned.pointnet import EncoderConfig, ball_query, farthest_points
@@ -42,8 +42,9 @@ def test_roc_auc():
 
 
 def synthetic_episodes(count: int, seed: int = 0):
-    """Episodes shaped like self-play's: a block's grasps (object frame) labelled 1 when the
-    gripper is on the block's +x half, then a placement whose parent is the grasp."""
+    """Episodes shaped like self-play's: a block's grasp proposals (object frame), which fail
+    verification when the gripper is on the block's -y side (y < -0.01) and are labelled 1
+    when it is on the +x half otherwise, then a placement whose parent is the grasp."""
     rng = np.random.default_rng(seed)
     episodes = []
     for e in range(count):
@@ -51,7 +52,8 @@ def synthetic_episodes(count: int, seed: int = 0):
         value = np.full((n + 1, 16), np.nan)
         value[:n, :8] = np.c_[rng.uniform(-0.03, 0.03, (n, 3)), np.tile([0, 0, 0, 1.0], (n, 1)), np.full(n, 0.05)]
         value[n, :7] = [0.5, 0.0, 0.1, 0, 0, 0, 1]
-        label = np.r_[(value[:n, 0] > 0).astype(np.int8), 1]
+        verified = np.r_[(value[:n, 1] >= -0.01).astype(np.int8), 1]
+        label = np.r_[((value[:n, 0] > 0) & (verified[:n] > 0)).astype(np.int8), 1]
         parents = np.full((n + 1, 12), -1)
         parents[n, 0] = int(np.flatnonzero(label[:n])[0]) if label[:n].any() else 0
         episodes.append({
@@ -59,6 +61,7 @@ def synthetic_episodes(count: int, seed: int = 0):
             "episode_assets": np.array([["block/0", "table"]]), "episode_scales": np.array([[1.0, 1.0]]),
             "kind": np.array(["grasp"] * n + ["placement"]), "param": np.array(["?g"] * n + ["?p"]),
             "param_index": np.array([3] * n + [4]), "value": value, "parents": parents, "label": label,
+            "proposal": value, "verified": verified,
             "poses": np.tile(np.array([[0.5, 0.0, 0.03, 0, 0, 0, 1], [0.6, 0, 0, 0, 0, 0, 1]]), (n + 1, 1, 1)),
         })
     return episodes
@@ -71,8 +74,42 @@ def test_training_learns_which_grasps_succeed():
     model, reports = train_mechanism(episodes, TrainConfig(epochs=40, encoder=TINY, seed=1))
     grasp = next(r for r in reports if r.variable == "?g")
     assert grasp.validation_rows > 0 and grasp.auc is not None and grasp.auc > 0.9, grasp
+    assert grasp.rejected > 0 and grasp.verify_auc > 0.9, grasp
     placement = next(r for r in reports if r.variable == "?p")
     assert placement.positives == 30
+    # the score ranks raw proposals: a grasp that verifies and is used first, then one that is
+    # reachable but not used, last one on the +x half that cannot be reached
+    data = param_data(episodes, specs["?g"])
+    classifier = model.classifier("?g")
+    with torch.no_grad():
+        ranked = []
+        for x, y in [(0.02, 0.0), (-0.02, 0.0), (0.02, -0.025)]:
+            rows = np.flatnonzero((np.sign(data.value[:, 0]) == np.sign(x))
+                                  & ((data.value[:, 1] < -0.015) == (y < -0.015)) & (np.abs(data.value[:, 1]) > 0.005))
+            ranked.append(float(classifier.log_score(to_batch(data, rows, torch.from_numpy(data.clouds()))).mean()))
+    assert ranked[0] > ranked[1] > ranked[2], ranked
+    # calibrated: P(used) of a proposal is below 1 even where the balanced heads are sure
+    assert float(classifier.prior_shift[1]) != 0.0
+
+
+def test_rejected_proposals_beyond_the_cap_are_subsampled_and_weighted():
+    episodes = synthetic_episodes(3)
+    for ep in episodes:                      # 1000 rejected grasps per episode
+        n = 1000
+        extra = np.full((n, 16), np.nan)
+        extra[:, :8] = np.c_[np.zeros((n, 1)), np.full((n, 1), -0.02), np.zeros((n, 1)),
+                             np.tile([0, 0, 0, 1.0], (n, 1)), np.full(n, 0.05)]
+        for key, rows in [("value", extra), ("proposal", extra), ("verified", np.zeros(n, np.int8)),
+                          ("label", np.zeros(n, np.int8)), ("kind", np.array(["grasp"] * n)),
+                          ("param", np.array(["?g"] * n)), ("param_index", np.full(n, 3)),
+                          ("parents", np.full((n, 12), -1)), ("poses", np.repeat(ep["poses"][:1], n, axis=0))]:
+            ep[key] = np.concatenate([ep[key], rows])
+    data = param_data(episodes, parent_specs(episodes)["?g"])
+    rejected = data.verified < 0.5
+    total = 3 * 1000 + sum(int((ep["verified"][:12] == 0).sum()) for ep in synthetic_episodes(3))
+    assert rejected.sum() == 2000 and np.isclose(data.weight[rejected].sum(), total)
+    assert (data.weight[~rejected] == 1).all() and (~rejected).sum() == sum(int(ep["verified"][:12].sum())
+                                                                           for ep in synthetic_episodes(3))
 
 
 def test_same_seed_same_weights():
@@ -152,6 +189,17 @@ def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
     pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3)      # a grasp: rank verified values
     assert list(pooled.draw(None, request, np.random.default_rng(0), budget=10)) == [4, 2, 0, 8, 6]
     assert pooled.examined == 10
+
+
+def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():
+    from pdsketch_mech.samplers.learned.model import MechanismClassifiers, ParamSpec
+    from pdsketch_mech.samplers.learned.ranked import POOL, LearnedMechanism
+    specs = [ParamSpec("?g", "grasp", (), 2), ParamSpec("?p", "placement", (), 2, outputs=1),
+             ParamSpec("?t", "push", (), 2, outputs=1)]
+    learned = LearnedMechanism(MechanismClassifiers(specs, TINY), {})
+    assert RankedSampler(Numbers(4), learned, "?g").pool == 0      # schema /2: raw proposals, best first
+    assert RankedSampler(Numbers(4), learned, "?p").pool == POOL   # schema /1: a pool of verified values
+    assert RankedSampler(Numbers(4), learned, "?t").pool == 0      # a push's distance either way
 
 
 def test_the_mechanism_steps_know_their_variables():

@@ -49,8 +49,17 @@ def test_labels_and_context(straight):
         assert (labels.sum() == 4) if success else (labels.sum() == 0)
     assert data["episode_success"].any()
     # every kind of value in its numeric layout, NaN-padded beyond it
-    for kind, dim, row in zip(data["kind"], data["value_dim"], data["value"]):
+    values = data["verified"] == 1
+    for kind, dim, row in zip(data["kind"][values], data["value_dim"][values], data["value"][values]):
         assert dim == len(VALUE_LAYOUT[str(kind)]) and not np.isnan(row[:3]).any() and np.isnan(row[dim:]).all()
+    # proposals that failed verification are rows of their own: never labelled 1, their
+    # numbers those of the proposal; a value's proposal is in the value's layout too
+    rejected = data["verified"] == 0
+    assert rejected.any() and not data["label"][rejected].any()
+    assert set(data["kind"][rejected]) <= {"grasp", "placement", "contact", "trajectory"}
+    assert np.array_equal(data["proposal"][rejected], data["value"][rejected], equal_nan=True)
+    grasps = values & (data["kind"] == "grasp")
+    assert np.allclose(data["proposal"][grasps, :8], data["value"][grasps, :8])  # a grasp verifies as proposed
     assert set(data["kind"]) >= {"grasp", "placement", "trajectory"}
     # context: the mechanism's objects as assets + scales, their poses, steps, variables, parents
     m = data["episode_objects"].shape[1]
@@ -155,3 +164,26 @@ def test_cli_runs_and_resumes(tmp_path):
     other = subprocess.run(command[:-2] + ["--seed", "5", "--out", str(folder)], cwd=ROOT, capture_output=True,
                            text=True, env=env)
     assert other.returncode == 2 and "another configuration" in other.stderr
+
+
+def test_the_log_keeps_rejected_proposals_and_each_values_proposal():
+    from pdsketch_mech.learning.selfplay_record import SampleLog
+    from pdsketch_mech.samplers.interface import SampleRequest, StepContext
+    from pdsketch_mech.samplers.types import Grasp
+
+    class Still:
+        def pose(self, name):
+            return (0.5, 0.0, 0.02), (0.0, 0.0, 0.0, 1.0)
+
+    log = SampleLog(Still(), ["box"], [[]], [], {})
+    grasp = lambda x: Grasp("box", ((x, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)), 0.05)  # noqa: E731
+    request = SampleRequest("sample-grasp", ("box",), ("?x",), StepContext("grasp", ("box",)))
+    bad, good = grasp(0.01), grasp(0.02)
+    log.verified(request, bad, None)         # rejected: a row of its own
+    log.verified(request, good, good)        # verified: its proposal waits for the value
+    log(request, good)
+    motion = SampleRequest("plan-grasp-motion", ("box", good), ("?x", "?g"), StepContext("grasp", ("box",)))
+    log.verified(motion, good, None)         # the stream's own input: no choice of its own
+    assert [s.verified for s in log.samples] == [0, 1]
+    assert log.samples[0].proposal[0] == 0.01 and log.samples[1].proposal[0] == 0.02
+    assert log.label([{"#g": good}]) == 1 and [s.label for s in log.samples] == [0, 1]

@@ -1,10 +1,14 @@
 """Self-play data -> one training set per mechanism parameter (the classifiers' inputs).
 
-A row is one value a generic sampler drew for a parameter in an episode, with its context:
-the mechanism's objects (asset cloud, size at the episode's scale, pose when drawn) and
-the values the parameter's parents took (the rankable parameters drawn before it in the
-mechanism's order; a parent not drawn is zeros with its presence flag 0). The label is 1 if
-the episode's successful plan used the value.
+A row is one proposal a generic sampler verified for a parameter in an episode -- a value
+(`verified` 1) or a proposal that failed verification (0) -- with its context: the
+mechanism's objects (asset cloud, size at the episode's scale, pose when drawn) and the
+values the parameter's parents took (the rankable parameters drawn before it in the
+mechanism's order; a parent not drawn is zeros with its presence flag 0). The numbers are
+the proposal's (what a learned sampler scores before verifying); the label is 1 if the
+episode's successful plan used its value. Rejected proposals can outnumber values a
+hundredfold (placements on a crowded table): beyond REJECTED_CAP per value a seeded subset
+is kept, each kept row weighted by how many it stands for.
 """
 from __future__ import annotations
 
@@ -18,6 +22,9 @@ from ..samplers.learned.model import ParamSpec, width
 from ..samplers.learned.shapes import size_features, unit_cloud
 from ..world.asset_index import resolve_asset
 from .selfplay_store import StoreError, done_episodes, read_episode
+
+REJECTED_CAP = 4        # rejected proposals kept per verified value (at least REJECTED_MIN in all)
+REJECTED_MIN = 2000
 
 # Columns holding a quaternion (x, y, z, w), per kind: stored with either sign in older data.
 QUATERNIONS = {"grasp": (3, 7), "contact": (3, 7), "placement": (3, 7), "trajectory": (10, 14)}
@@ -37,6 +44,8 @@ class ParamData:
     poses: np.ndarray            # (n, M, 7)
     label: np.ndarray            # (n,)
     episode: np.ndarray          # (n,): which episode (validation splits by episode)
+    verified: np.ndarray         # (n,): 1 a value, 0 a proposal that failed verification
+    weight: np.ndarray           # (n,): how many rows each stands for (rejected ones subsampled)
 
     def __len__(self) -> int:
         return len(self.label)
@@ -53,10 +62,12 @@ def row_kind(ep: Dict[str, np.ndarray], row: int) -> str:
     return kind
 
 
-def row_value(ep: Dict[str, np.ndarray], row: int, kind: str) -> np.ndarray:
+def row_value(ep: Dict[str, np.ndarray], row: int, kind: str, column: str = "value") -> np.ndarray:
+    """A row's numbers in `kind`'s layout, from its value or (column "proposal") its proposal."""
+    numbers = ep[column if column in ep else "value"][row]
     if kind == "push":
-        return ep["value"][row, len(VALUE_LAYOUT["trajectory"]) - 1:len(VALUE_LAYOUT["trajectory"])]
-    return ep["value"][row, :width(kind)]
+        return numbers[len(VALUE_LAYOUT["trajectory"]) - 1:len(VALUE_LAYOUT["trajectory"])]
+    return numbers[:width(kind)]
 
 
 def canonical(numbers: np.ndarray, kind: str) -> np.ndarray:
@@ -101,10 +112,12 @@ def parent_specs(episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[str, ParamSp
             for var, kind in sorted(kinds.items(), key=lambda kv: order[kv[0]])}
 
 
-def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec) -> ParamData:
-    """The rows of `spec`'s parameter across the episodes."""
+def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed: int = 0) -> ParamData:
+    """The rows of `spec`'s parameter across the episodes (rejected proposals subsampled
+    beyond REJECTED_CAP per value, by `seed`)."""
     urdf_ids: Dict[str, int] = {}
-    cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "poses", "label", "episode")}
+    cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "poses", "label", "episode",
+                                             "verified")}
     parent_rows: List[list] = [[] for _ in spec.parents]
     for ep in episodes:
         assets = [str(a) for a in ep["episode_assets"][0]]
@@ -121,12 +134,17 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec) -> Pa
                 parent_rows[k].append(canonical(row_value(ep, p, kind), kind) if p is not None
                                       else np.zeros(width(kind)))
             cols["present"].append([float(var in by_var) for var, _ in spec.parents])
-            cols["value"].append(canonical(row_value(ep, row, spec.kind), spec.kind))
+            cols["value"].append(canonical(row_value(ep, row, spec.kind, "proposal"), spec.kind))
             cols["cloud"].append(ids)
             cols["sizes"].append(sizes)
             cols["poses"].append(canonical(ep["poses"][row], "placement"))  # poses in a placement's layout
             cols["label"].append(int(ep["label"][row]))
             cols["episode"].append(int(ep["episode_id"][0]))
+            cols["verified"].append(int(ep["verified"][row]) if "verified" in ep else 1)
+    verified = np.asarray(cols["verified"], dtype=np.float32)
+    keep, weight = _subsample_rejected(verified, seed)
+    cols = {k: [v[i] for i in keep] for k, v in cols.items()}
+    parent_rows = [[r[i] for i in keep] for r in parent_rows]
     n = len(cols["label"])
     f32 = lambda rows, shape: np.asarray(rows, dtype=np.float32).reshape(shape)  # noqa: E731
     m = spec.objects
@@ -135,7 +153,20 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec) -> Pa
                      f32(cols["present"], (n, len(spec.parents))), list(urdf_ids),
                      np.asarray(cols["cloud"], dtype=np.int64).reshape(n, m), f32(cols["sizes"], (n, m, 3)),
                      f32(cols["poses"], (n, m, 7)), np.asarray(cols["label"], dtype=np.float32),
-                     np.asarray(cols["episode"], dtype=np.int64))
+                     np.asarray(cols["episode"], dtype=np.int64), verified[keep], weight[keep])
+
+
+def _subsample_rejected(verified: np.ndarray, seed: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(rows kept, each row's weight): every value, and at most max(REJECTED_CAP per value,
+    REJECTED_MIN) rejected proposals, each weighted by how many it stands for."""
+    rejected = np.flatnonzero(verified < 0.5)
+    cap = max(REJECTED_CAP * int((verified > 0.5).sum()), REJECTED_MIN)
+    weight = np.ones(len(verified), dtype=np.float32)
+    if len(rejected) <= cap:
+        return np.arange(len(verified)), weight
+    kept = np.sort(np.random.default_rng(seed).choice(rejected, size=cap, replace=False))
+    weight[kept] = len(rejected) / cap
+    return np.sort(np.concatenate([np.flatnonzero(verified > 0.5), kept])), weight
 
 
 def split_episodes(episodes: Sequence[int], fraction: float, seed: int) -> Tuple[set, set]:

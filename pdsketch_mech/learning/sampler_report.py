@@ -39,18 +39,24 @@ def report_markdown(name: str, reports: Sequence[ParamReport], manifest: Dict[st
         f"Made by `{info['command']}`: {selfplay_s:.0f} s of self-play episodes (summed over workers), "
         f"{info['seconds_training']:.0f} s of training.", "",
         f"Self-play: {totals.get('episodes', 0)} episodes on the `{info['task']}` train split, "
-        f"{totals.get('successes', 0)} succeeded; {totals.get('samples', 0)} values drawn, "
+        f"{totals.get('successes', 0)} succeeded; {totals.get('samples', 0)} proposals verified (values and rejected ones), "
         f"{totals.get('positives', 0)} of them in a successful plan.", "",
-        "| parameter | kind | rows | positives | validation rows (positives) | kept epoch | validation AUC | balanced accuracy |",
-        "|---|---|---|---|---|---|---|---|",
+        "| parameter | kind | rows (rejected proposals) | positives | validation rows (positives) | kept epoch "
+        "| validation AUC | balanced accuracy | verification AUC |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in reports:
         auc = _fmt(r.auc) if not r.skipped else f"not trained: {r.skipped}"
-        lines.append(f"| `{r.variable}` | {r.kind} | {r.rows} | {r.positives} | {r.validation_rows} "
-                     f"({r.validation_positives}) | {r.best_epoch or '-'} | {auc} | {_fmt(r.balanced_accuracy)} |")
-    lines += ["", "Validation holds out whole episodes (seeded); the weights of the epoch with the lowest validation "
-              "loss are kept, so the validation figures are a little optimistic. AUC '-': the held-out rows hold one "
-              "class only.",
+        lines.append(f"| `{r.variable}` | {r.kind} | {r.rows} ({r.rejected}) | {r.positives} | {r.validation_rows} "
+                     f"({r.validation_positives}) | {r.best_epoch or '-'} | {auc} | {_fmt(r.balanced_accuracy)} "
+                     f"| {_fmt(r.verify_auc)} |")
+    lines += ["", "A row is a proposal the generic sampler verified: a value, or one that failed verification "
+              "(rejected proposals beyond 4 per value are subsampled and weighted). Validation AUC ranks the "
+              "held-out proposals by the classifier's score (P(verifies) x P(used | verified)) against whether the "
+              "successful plan used them; balanced accuracy calls a proposal used when both heads give even odds or "
+              "better; verification AUC is the first head alone against verification's outcome. Validation holds "
+              "out whole episodes (seeded); the weights of the epoch with the lowest validation loss are kept, so "
+              "the validation figures are a little optimistic. '-': the held-out rows hold one class only.",
               "", f"![learning curves]({png})", ""]
     return "\n".join(lines)
 

@@ -1,7 +1,11 @@
 """Training the classifiers of a mechanism's parameters on self-play data.
 
-Binary cross-entropy, class-balanced (positives weighted by negatives / positives: a
-successful episode uses one value per parameter among dozens drawn), Adam, minibatches.
+Each classifier has two logits (samplers/learned/model.py): "used" is trained on the values
+(verified proposals) with the label whether the successful plan used them, "verifies" on
+every proposal with the label whether it verified. Binary cross-entropy, each class-balanced
+(positives weighted by negatives / positives: a successful episode uses one value per
+parameter among dozens drawn), the log of each weight kept as the head's prior shift so that
+planning ranks by calibrated probabilities; Adam, minibatches.
 Episodes, not rows, are held out for validation (rows of one episode share their context).
 With a few dozen positives a classifier soon fits its training rows and gets worse on
 others (measured on hook-use: validation loss lowest around epoch 5 of 60, then rising
@@ -43,7 +47,9 @@ class ParamReport:
     positives: int
     validation_rows: int = 0
     validation_positives: int = 0
-    auc: Optional[float] = None              # None: the validation rows hold one class only
+    auc: Optional[float] = None              # ranking held-out proposals by log_score against "used"; None: one class
+    verify_auc: Optional[float] = None       # the "verifies" logit against verification's outcome
+    rejected: int = 0                        # rows that are proposals which failed verification
     balanced_accuracy: Optional[float] = None
     best_epoch: Optional[int] = None         # the epoch whose weights were kept (1-based)
     train_loss: List[float] = field(default_factory=list)
@@ -70,11 +76,11 @@ def roc_auc(scores: np.ndarray, labels: np.ndarray) -> Optional[float]:
     return float((ranks[pos].sum() - n_pos * (n_pos + 1) / 2) / (n_pos * n_neg))
 
 
-def balanced_accuracy(scores: np.ndarray, labels: np.ndarray) -> Optional[float]:
+def balanced_accuracy(scores: np.ndarray, labels: np.ndarray, threshold: float = 0.5) -> Optional[float]:
     pos, neg = labels > 0.5, labels <= 0.5
     if not pos.any() or not neg.any():
         return None
-    return float(((scores[pos] > 0.5).mean() + (scores[neg] <= 0.5).mean()) / 2)
+    return float(((scores[pos] > threshold).mean() + (scores[neg] <= threshold).mean()) / 2)
 
 
 def to_batch(data: ParamData, rows: np.ndarray, clouds: torch.Tensor) -> Batch:
@@ -89,13 +95,14 @@ def train_mechanism(episodes: Sequence[Dict[str, np.ndarray]], config: TrainConf
     """Classifiers for every rankable parameter with positives in the data; reports for all."""
     torch.manual_seed(config.seed)
     specs = parent_specs(episodes)
-    datasets = {var: param_data(episodes, spec) for var, spec in specs.items()}
+    datasets = {var: param_data(episodes, spec, config.seed) for var, spec in specs.items()}
     trainable = [spec for var, spec in specs.items() if datasets[var].label.sum() > 0]
     model = MechanismClassifiers(trainable, config.encoder)
     reports: List[ParamReport] = []
     for var, spec in specs.items():
         data = datasets[var]
-        report = ParamReport(var, spec.kind, len(data), int(data.label.sum()))
+        report = ParamReport(var, spec.kind, len(data), int(data.label.sum()),
+                             rejected=int((data.verified < 0.5).sum()))
         reports.append(report)
         if spec not in trainable:
             report.skipped = "no value of it was ever in a successful plan"
@@ -103,6 +110,36 @@ def train_mechanism(episodes: Sequence[Dict[str, np.ndarray]], config: TrainConf
         _train_one(model.classifier(var), data, config, report, progress)
     model.eval()
     return model, reports
+
+
+def balance(labels: np.ndarray, weights: np.ndarray) -> float:
+    """pos_weight that gives both classes the same total weight (1 if a class is missing)."""
+    pos, neg = float(weights[labels > 0.5].sum()), float(weights[labels <= 0.5].sum())
+    return neg / pos if pos > 0 and neg > 0 else 1.0
+
+
+class TwoHeadLoss:
+    """Weighted BCE of the "used" logit on values plus the "verifies" logit on all rows."""
+
+    def __init__(self, data: ParamData, rows: np.ndarray):
+        self.used_weight = balance(data.label[rows][data.verified[rows] > 0.5],
+                                   data.weight[rows][data.verified[rows] > 0.5])
+        self.verify_weight = balance(data.verified[rows], data.weight[rows])
+        self.used = torch.from_numpy(data.label)
+        self.verified = torch.from_numpy(data.verified)
+        self.weight = torch.from_numpy(data.weight)
+
+    def shift(self) -> torch.Tensor:
+        return torch.log(torch.tensor([self.used_weight, self.verify_weight], dtype=torch.float32))
+
+    def __call__(self, logits: torch.Tensor, rows: np.ndarray) -> torch.Tensor:
+        bce = nn.functional.binary_cross_entropy_with_logits
+        used, verified, weight = self.used[rows], self.verified[rows], self.weight[rows]
+        w_used = verified * weight * torch.where(used > 0.5, self.used_weight, 1.0)
+        w_verify = weight * torch.where(verified > 0.5, self.verify_weight, 1.0)
+        loss_used = (bce(logits[:, 0], used, reduction="none") * w_used).sum() / w_used.sum().clamp_min(1e-9)
+        loss_verify = (bce(logits[:, 1], verified, reduction="none") * w_verify).sum() / w_verify.sum()
+        return loss_used + loss_verify
 
 
 def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, report: ParamReport,
@@ -114,10 +151,8 @@ def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, repo
         train_rows, held_rows = np.arange(len(data)), np.zeros(0, dtype=np.int64)
     clouds = torch.from_numpy(data.clouds())
     classifier.fit_statistics(to_batch(data, train_rows, clouds))
-    labels = torch.from_numpy(data.label)
-    positives = float(data.label[train_rows].sum())
-    weight = torch.tensor((len(train_rows) - positives) / max(positives, 1.0))
-    loss_fn = nn.BCEWithLogitsLoss(pos_weight=weight)
+    loss_fn = TwoHeadLoss(data, train_rows)
+    classifier.prior_shift.copy_(loss_fn.shift())
     optimiser = torch.optim.Adam(classifier.parameters(), lr=config.lr, weight_decay=config.weight_decay)
     rng = np.random.default_rng(config.seed)
     best = (float("inf"), None)
@@ -128,7 +163,7 @@ def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, repo
         for start in range(0, len(order), config.batch):
             rows = order[start:start + config.batch]
             optimiser.zero_grad()
-            loss = loss_fn(classifier(to_batch(data, rows, clouds)), labels[rows])
+            loss = loss_fn(classifier(to_batch(data, rows, clouds)), rows)
             loss.backward()
             optimiser.step()
             losses.append(loss.item() * len(rows))
@@ -137,7 +172,7 @@ def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, repo
         if len(held_rows):
             classifier.eval()
             with torch.no_grad():
-                held_loss = float(loss_fn(classifier(to_batch(data, held_rows, clouds)), labels[held_rows]))
+                held_loss = float(loss_fn(classifier(to_batch(data, held_rows, clouds)), held_rows))
             report.validation_loss.append(held_loss)
             if held_loss < best[0]:
                 best = (held_loss, {k: v.detach().clone() for k, v in classifier.state_dict().items()})
@@ -150,7 +185,10 @@ def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, repo
     report.validation_rows, report.validation_positives = len(held_rows), int(data.label[held_rows].sum())
     if len(held_rows):
         with torch.no_grad():
-            scores = torch.sigmoid(classifier(to_batch(data, held_rows, clouds))).numpy()
-        report.auc = roc_auc(scores, data.label[held_rows])
-        report.balanced_accuracy = balanced_accuracy(scores, data.label[held_rows])
-
+            batch = to_batch(data, held_rows, clouds)
+            score = classifier.log_score(batch).numpy()
+            logits = classifier(batch).numpy()
+        report.auc = roc_auc(score, data.label[held_rows])
+        # predicted "used": both balanced heads above even odds
+        report.balanced_accuracy = balanced_accuracy(logits.min(axis=1), data.label[held_rows], threshold=0.0)
+        report.verify_auc = roc_auc(logits[:, 1], data.verified[held_rows])

@@ -4,8 +4,8 @@ An episode draws a train-split instance of the task (distractors included), grou
 mechanism on a random choice of the objects present whose precondition holds symbolically
 (the learner is not told which object plays which role), fixes the skeleton to the
 mechanism's steps and runs the continuous search with the generic samplers under a budget.
-Every value drawn is logged (selfplay_record.py) and labelled 1 if the successful plan used
-it, 0 otherwise.
+Every value drawn, and every proposal that failed verification, is logged
+(selfplay_record.py) and labelled 1 if the successful plan used it, 0 otherwise.
 
 Episode i draws everything from seeds derived from (base seed, i) alone, and its budget is
 counted in work units (planner/schedule.py): the same seed gives the same data, whichever
@@ -127,6 +127,7 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
                             [q.name for q in mechanism.parameters], placeholders)
             sampler = StepSampler({s.name: s for s in loaded.domain.streams}, placeholders, Counter())
             sampler.observers.append(log)
+            sampler.verify_observers.append(log.verified)
             deadline = started + config.time_limit
             sampler.deadline = deadline
             search = Refinement(steps, start, world, task, sampler, np.random.default_rng(rng.integers(1 << 63)))
@@ -150,10 +151,12 @@ def episode_arrays(episode: int, instance_seed: int, planner_seed: int, success:
     samples = log.samples if log is not None else []
     n, m = len(samples), len(objects)
     value = np.full((n, VALUE_WIDTH), np.nan)
+    proposal = np.full((n, VALUE_WIDTH), np.nan)
     parents = np.full((n, MAX_PARENTS), -1, dtype=np.int64)
     poses = np.zeros((n, m, 7))
     for k, s in enumerate(samples):
         value[k, :len(s.value)] = s.value
+        proposal[k, :len(s.proposal)] = s.proposal
         parents[k, :len(s.parents[-MAX_PARENTS:])] = s.parents[-MAX_PARENTS:]
         poses[k] = s.poses
     text = lambda xs: np.array(list(xs), dtype=str) if len(xs) else np.zeros(0, dtype="<U1")  # noqa: E731
@@ -179,6 +182,8 @@ def episode_arrays(episode: int, instance_seed: int, planner_seed: int, success:
         "param_index": np.array([s.param_index for s in samples], dtype=np.int64),
         "value": value,
         "value_dim": np.array([len(s.value) for s in samples], dtype=np.int64),
+        "proposal": proposal,
+        "verified": np.array([s.verified for s in samples], dtype=np.int8),
         "poses": poses,
         "parents": parents,
         "label": np.array([s.label for s in samples], dtype=np.int8),

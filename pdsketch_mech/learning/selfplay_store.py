@@ -21,7 +21,7 @@ import numpy as np
 
 from ..cli import atomic_file, write_json
 
-SCHEMA = "pdsketch_mech.selfplay/1"
+SCHEMA = "pdsketch_mech.selfplay/2"  # /2: rejected proposals logged too
 EPISODE_FILE = re.compile(r"^e(\d{6,})\.npz$")
 
 
@@ -66,7 +66,10 @@ def open_folder(folder: str, identity: Dict[str, object]) -> Dict[str, object]:
         except (OSError, ValueError) as exc:
             raise StoreError(f"{path}: cannot read the manifest: {exc}") from None
         if manifest.get("schema") != SCHEMA:
-            raise StoreError(f"{path}: not a self-play manifest ({SCHEMA})")
+            found = manifest.get("schema")
+            raise StoreError(f"{path}: self-play data of another format ({found}, this version writes {SCHEMA}); "
+                             "use another --out" if isinstance(found, str) and found.startswith("pdsketch_mech.selfplay/")
+                             else f"{path}: not a self-play manifest ({SCHEMA})")
         theirs = manifest.get("config", {})
         differs = [f"{k} {theirs.get(k)!r} (this run: {v!r})" for k, v in identity.items() if theirs.get(k) != v]
         if differs:

@@ -77,7 +77,8 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
             "epochs": config.epochs, "episodes": len(episodes), "rows": rows,
             "selfplay": manifest.get("config", {}), "command": info["command"],
             "validation": {r.variable: {"auc": r.auc, "balanced_accuracy": r.balanced_accuracy,
-                                        "rows": r.validation_rows, "positives": r.validation_positives}
+                                        "verify_auc": r.verify_auc, "rows": r.validation_rows,
+                                        "positives": r.validation_positives}
                            for r in reports if not r.skipped},
             "skipped": {r.variable: r.skipped for r in reports if r.skipped}}
     save(checkpoint, model, mechanism, meta)
@@ -87,12 +88,12 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
     trained = [r for r in reports if not r.skipped]
     size = os.path.getsize(checkpoint) / 1e6
     print(f"train {name}: {len(trained)} classifiers ({', '.join(r.variable for r in trained) or 'none'}) "
-          f"from {len(episodes)} episodes, {rows} values; wrote {shown(checkpoint)} ({size:.2f} MB), "
+          f"from {len(episodes)} episodes, {rows} proposals; wrote {shown(checkpoint)} ({size:.2f} MB), "
           f"{shown(metadata_path(checkpoint))}, {shown(base)}.md/.png"
           + (f"; {shown(fragment)} now names the checkpoint" if changed else ""), file=sys.stderr)
     for r in reports:
         figure = f"validation AUC {r.auc:.3f}" if r.auc is not None else "validation AUC -"
-        print(f"  {r.variable} ({r.kind}): {r.rows} values, {r.positives} positive; "
+        print(f"  {r.variable} ({r.kind}): {r.rows} proposals ({r.rejected} rejected), {r.positives} used; "
               + (f"not trained: {r.skipped}" if r.skipped else figure), file=sys.stderr)
     return len(trained)
 

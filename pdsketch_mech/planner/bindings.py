@@ -28,6 +28,8 @@ if TYPE_CHECKING:
 # Told of every value a stream's sampler yields, with the request it answered (self-play
 # records them); the world is in the state the value was drawn in.
 SampleObserver = Callable[[SampleRequest, object], None]
+# Told of every proposal a stream's sampler verifies: (request, proposal, value or None).
+VerifyObserver = Callable[[SampleRequest, object, Optional[object]], None]
 
 
 class StepSampler:
@@ -45,6 +47,7 @@ class StepSampler:
             raise ValueError(f"no sampler named {', '.join(unknown)}; known: {known}")
         self.samplers: Dict[str, Sampler] = {s.name: GENERIC_SAMPLERS[s.sampler or s.name]() for s in streams.values()}
         self.observers: List[SampleObserver] = []
+        self.verify_observers: List[VerifyObserver] = []
         self._ranked: Dict[Tuple[str, str, str], Sampler] = {}
 
     def sampler_for(self, stream: str, step: StepContext, placeholder: str) -> Sampler:
@@ -99,8 +102,14 @@ class StepSampler:
         name, rest = needed[0], needed[1:]
         holder = self.placeholders[name]
         stream = self.streams[holder.stream]
+        hook = None
+        if self.verify_observers:
+            def hook(candidate, value):
+                for observe in self.verify_observers:
+                    observe(request, candidate, value)
         request = SampleRequest(stream.name, tuple(values.get(v, v) for v in holder.inputs),
-                                tuple(q.name for q in stream.inputs), step, poses, {**parents, **values}, self.deadline)
+                                tuple(q.name for q in stream.inputs), step, poses, {**parents, **values}, self.deadline,
+                                hook)
         key = self.key(stream.name)
         drawn = 0
         for value in self.sampler_for(stream.name, step, name).draw(world, request, rng):

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Generic, Iterator, Mapping, Optional, Tuple, TypeVar
+from typing import TYPE_CHECKING, Callable, Generic, Iterator, Mapping, Optional, Tuple, TypeVar
 
 import numpy as np
 
@@ -55,6 +55,14 @@ class SampleRequest:
     poses: Mapping[str, Pose] = field(default_factory=dict)     # the step's objects, where they are now
     parents: Mapping[str, object] = field(default_factory=dict)  # placeholder -> value drawn earlier
     deadline: float = float("inf")                   # time.perf_counter(): nothing is verified after it
+    # Told of every proposal verified, with its value or None (self-play logs rejected
+    # proposals too: a learned sampler ranks proposals, most of which never become values).
+    on_verified: Optional[Callable[[object, Optional[object]], None]] = field(default=None, compare=False)
+
+    def verified(self, candidate: object, value: Optional[object]) -> None:
+        """Report that `candidate` was verified, giving `value` (None: rejected)."""
+        if self.on_verified is not None:
+            self.on_verified(candidate, value)
 
     def input(self, name: str) -> object:
         """The value of the stream input `name` (e.g. "?x")."""
@@ -100,5 +108,6 @@ class Sampler(Generic[Candidate]):
                 return
             self.examined += 1
             value = self.verify(world, request, candidate, rng)
+            request.verified(candidate, value)
             if value is not None:
                 yield value

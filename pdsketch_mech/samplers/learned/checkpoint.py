@@ -22,7 +22,8 @@ from ...lang.writer import write_mechanism
 from .model import MechanismClassifiers, ParamSpec
 from .pointnet import EncoderConfig
 
-SCHEMA = "pdsketch_mech.samplers/1"
+SCHEMA = "pdsketch_mech.samplers/2"   # /2: classifiers of proposals (two logits)
+READABLE = ("pdsketch_mech.samplers/1", SCHEMA)  # /1: classifiers of verified values
 SUFFIX = ".samplers.safetensors"
 
 
@@ -67,7 +68,7 @@ def load(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[MechanismCl
     try:
         with open(meta_file, encoding="utf-8") as handle:
             meta = json.load(handle)
-        if meta.get("schema") != SCHEMA:
+        if meta.get("schema") not in READABLE:
             raise CheckpointError(f"{meta_file}: not a learned-sampler checkpoint ({SCHEMA})")
         if meta.get("mechanism") != mechanism.name or meta.get("mechanism_hash") != mechanism_hash(mechanism):
             raise CheckpointError(

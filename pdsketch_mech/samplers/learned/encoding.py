@@ -84,3 +84,18 @@ def encode_proposal(world: "World", proposal: object) -> Optional[np.ndarray]:
         return np.array(pose_array(matrix_pose(proposal.pushers[0])) + list(proposal.point)
                         + list(proposal.normal) + list(proposal.direction))
     return None
+
+
+def proposal_row(world: "World", proposal: object) -> Optional[Tuple[str, np.ndarray]]:
+    """(stored kind, numbers in VALUE_LAYOUT[kind]) of a proposal, as self-play stores it: a
+    push distance as a trajectory row holding only its distance (`row_kind` reads it back as
+    a "push"). None: the proposal is not rankable."""
+    numbers = encode_proposal(world, proposal)
+    if numbers is None:
+        return None
+    if isinstance(proposal, float):
+        row = np.full(len(VALUE_LAYOUT["trajectory"]), np.nan)
+        row[-1] = numbers[0]
+        return "trajectory", row
+    kind = "contact" if isinstance(proposal, ContactCandidate) else encode_value(world, proposal)[0]
+    return kind, numbers

@@ -10,6 +10,13 @@ tool), and a linear layer over separately encoded parts cannot express that.
 
 Positions of the value (a contact's point, a placement's position) are also given in each
 object's frame, so that "behind the target" means the same wherever the target stands.
+
+A classifier trained on proposals (ParamSpec.outputs 2) has two logits: whether the proposal
+verifies (IK, collisions, motion) and whether its value, once verified, ends up in a
+successful plan. Trained with class-balanced weights, each logit is off by the log of its
+weight; `prior_shift` holds those logs, so `log_score` is the calibrated
+log P(verifies) + log P(used | verified), the log-probability that a raw proposal is the one
+a plan uses. Checkpoints of values only (outputs 1) have the second logit alone.
 """
 from __future__ import annotations
 
@@ -43,14 +50,16 @@ class ParamSpec:
     kind: str
     parents: Tuple[Tuple[str, str], ...]
     objects: int
+    outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
 
     def to_json(self) -> dict:
         return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
-                "objects": self.objects}
+                "objects": self.objects, "outputs": self.outputs}
 
     @classmethod
     def from_json(cls, data: dict) -> "ParamSpec":
-        return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]))
+        return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]),
+                   int(data.get("outputs", 1)))
 
 
 def width(kind: str) -> int:
@@ -104,8 +113,8 @@ def mlp(inputs: int, hidden: int = HIDDEN) -> nn.Sequential:
 
 
 class ParamClassifier(nn.Module):
-    """Logits for (value, context) rows of one parameter (sigmoid: the probability that the
-    value ends up in a successful plan)."""
+    """Logits for (value, context) rows of one parameter: column 0, the value ends up in a
+    successful plan (given it verifies); column 1 (outputs 2), the proposal verifies."""
 
     def __init__(self, spec: ParamSpec, encoder: EncoderConfig):
         super().__init__()
@@ -121,7 +130,10 @@ class ParamClassifier(nn.Module):
         self.value_norm = Standardise(width(spec.kind))
         self.value = mlp(width(spec.kind))
         parts = spec.objects + len(spec.parents) + 1
-        self.head = nn.Sequential(nn.Linear(parts * HIDDEN, 2 * HIDDEN), nn.ReLU(), nn.Linear(2 * HIDDEN, 1))
+        self.head = nn.Sequential(nn.Linear(parts * HIDDEN, 2 * HIDDEN), nn.ReLU(),
+                                  nn.Linear(2 * HIDDEN, spec.outputs))
+        if spec.outputs > 1:
+            self.register_buffer("prior_shift", torch.zeros(spec.outputs))
 
     def object_inputs(self, batch: Batch) -> torch.Tensor:
         """(B, M, pose + size + anchors): each object's pose and size, and the value's
@@ -148,8 +160,16 @@ class ParamClassifier(nn.Module):
         """(U, S) embeddings of distinct clouds (fixed once trained: planning caches them)."""
         return self.shape_projection(self.shape(clouds))
 
+    def log_score(self, batch: Batch, shapes: Optional[torch.Tensor] = None) -> torch.Tensor:
+        """(B,) what ranking sorts by: the calibrated log-probability that a proposal verifies
+        and is used (outputs 2), or the used-logit of a value (outputs 1)."""
+        logits = self(batch, shapes)
+        if self.spec.outputs == 1:
+            return logits[:, 0]
+        return torch.nn.functional.logsigmoid(logits - self.prior_shift).sum(-1)
+
     def forward(self, batch: Batch, shapes: Optional[torch.Tensor] = None) -> torch.Tensor:
-        """Logits (B,); `shapes`: precomputed `shape_vectors(batch.clouds)`."""
+        """Logits (B, outputs); `shapes`: precomputed `shape_vectors(batch.clouds)`."""
         shapes = (self.shape_vectors(batch.clouds) if shapes is None else shapes)[batch.cloud_index]  # (B, M, S)
         inputs = self.object_inputs(batch)
         parts = [net(torch.cat([shapes[:, m], norm(inputs[:, m])], dim=-1))
@@ -158,7 +178,7 @@ class ParamClassifier(nn.Module):
             present = batch.present[:, p:p + 1]
             parts.append(net(torch.cat([norm(batch.parents[p]) * present, present], dim=-1)))
         parts.append(self.value(self.value_norm(batch.value)))
-        return self.head(torch.cat(parts, dim=-1)).squeeze(-1)
+        return self.head(torch.cat(parts, dim=-1))
 
 
 class MechanismClassifiers(nn.Module):

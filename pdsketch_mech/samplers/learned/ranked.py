@@ -1,9 +1,8 @@
 """A mechanism's learned samplers at planning time: rank what a generic sampler draws.
 
-For a mechanism step whose parameter has a classifier, the step's stream takes a batch from
-its generic sampler -- verified values for grasps, contacts and placements, proposed
-distances for pushes (RankedSampler says why) -- scores the batch in one forward pass in the
-step's context (the mechanism's objects where they are now, the values its earlier steps
+For a mechanism step whose parameter has a classifier, the step's stream takes a batch of
+BATCH proposals from its generic sampler (a checkpoint of values only: a pool of verified
+values, RankedSampler says why), scores the batch in one forward pass in the step's context (the mechanism's objects where they are now, the values its earlier steps
 drew), and goes through it best first. A share of the walk (EXPLORE) takes one at random
 from the rest instead, and every member of a batch is still used in the end: the ranking
 reorders, it never removes, so the planner stays as complete as with the generic sampler.
@@ -28,7 +27,7 @@ if TYPE_CHECKING:
     from ...lang.nodes import Mechanism
     from ...world.world import World
 
-BATCH = 64        # proposals scored together (pushes)
+BATCH = 64        # proposals scored together
 POOL = 8          # verified values scored together (grasps, contacts, placements)
 EXPLORE = 0.2     # chance that the next proposal verified is a random one rather than the best left
 
@@ -63,18 +62,24 @@ class LearnedMechanism:
                      torch.arange(len(objects)).expand(rows, -1), sizes.expand(rows, -1, -1),
                      poses.expand(rows, -1, -1))
 
+    def ranks_proposals(self, variable: str) -> bool:
+        """Whether the classifier was trained on proposals (else on verified values only)."""
+        return self.model.classifier(variable).spec.outputs > 1
+
     def score(self, world: "World", request: SampleRequest, variable: str, proposals: List[object]) -> np.ndarray:
-        """The classifier's probability for each proposal (0.5 where a proposal has no encoding)."""
+        """The classifier's score for each proposal, higher first (`ParamClassifier.log_score`;
+        the median of the others where a proposal has no encoding)."""
         started = time.perf_counter()
         classifier = self.model.classifier(variable)
         numbers = [encode_proposal(world, p) for p in proposals]
         known = [i for i, v in enumerate(numbers) if v is not None]
-        out = np.full(len(proposals), 0.5)
+        out = np.zeros(len(proposals))
         if known:
             batch = self.context(world, request, classifier.spec, len(known))
             batch.value = torch.tensor(np.nan_to_num(np.stack([numbers[i] for i in known])), dtype=torch.float32)
             with torch.no_grad():
-                out[known] = torch.sigmoid(classifier(batch, self._shape_vectors(world, request, variable))).numpy()
+                out[known] = classifier.log_score(batch, self._shape_vectors(world, request, variable)).numpy()
+            out[[i for i in range(len(proposals)) if numbers[i] is None]] = np.median(out[known])
         self.score_seconds.append(time.perf_counter() - started)
         return out
 
@@ -106,19 +111,21 @@ def walk_order(scores: np.ndarray, rng: np.random.Generator, explore: float = EX
 class RankedSampler(Sampler):
     """A generic sampler whose values are yielded in the order a classifier ranks them.
 
-    Two ways, by what the classifier was trained on. Self-play records values, i.e.
-    proposals that passed verification, so a grasp, contact or placement classifier has
-    never seen an unreachable grasp and may rank one first: those kinds verify proposals in
-    the generic order until POOL values are found and yield the pool best first (fewer
-    values simulated; about as many verified). A push's one choice, its distance, is known
-    before its motion is planned and nearly always verifies: pushes rank BATCH proposed
-    distances and verify the best first."""
+    Two ways, by what the classifier was trained on. A classifier of proposals (self-play
+    logs the proposals that fail verification too) scores BATCH raw proposals by the
+    probability that they verify and are used, and they are verified best first: fewer
+    verified and fewer simulated. A classifier of values only (checkpoints of schema /1)
+    has never seen an unreachable grasp and may rank one first: grasps, contacts and
+    placements then verify proposals in the generic order until POOL values are found and
+    yield the pool best first; a push's distance, which nearly always verifies, is ranked
+    as a proposal either way."""
 
     def __init__(self, generic: Sampler, learned: LearnedMechanism, variable: str, pool: Optional[int] = None):
         self.generic, self.learned, self.variable = generic, learned, variable
         self.budget = generic.budget
         if pool is None:
-            pool = 0 if learned.model.classifier(variable).spec.kind == "push" else POOL
+            classifier = learned.model.classifier(variable)
+            pool = 0 if classifier.spec.kind == "push" or learned.ranks_proposals(variable) else POOL
         self.pool = pool  # 0: rank proposals
 
     def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
@@ -137,6 +144,7 @@ class RankedSampler(Sampler):
                 examined += 1
                 self.examined += 1
                 value = self.generic.verify(world, request, candidate, rng)
+                request.verified(candidate, value)
                 if value is not None:
                     pool.append(value)
                     if len(pool) >= self.pool:
@@ -173,6 +181,7 @@ class RankedSampler(Sampler):
                 examined += 1
                 self.examined += 1
                 value = self.generic.verify(world, request, batch[index], rng)
+                request.verified(batch[index], value)
                 if value is not None:
                     yield value
 
