@@ -61,7 +61,7 @@ def synthetic_episodes(count: int, seed: int = 0):
             "episode_assets": np.array([["block/0", "table"]]), "episode_scales": np.array([[1.0, 1.0]]),
             "kind": np.array(["grasp"] * n + ["placement"]), "param": np.array(["?g"] * n + ["?p"]),
             "param_index": np.array([3] * n + [4]), "value": value, "parents": parents, "label": label,
-            "proposal": value, "verified": verified,
+            "proposal": value, "verified": verified, "episode_success": np.array([bool(label[:n].any())]),
             "poses": np.tile(np.array([[0.5, 0.0, 0.03, 0, 0, 0, 1], [0.6, 0, 0, 0, 0, 0, 1]]), (n + 1, 1, 1)),
         })
     return episodes
@@ -300,3 +300,15 @@ def test_bench_samplers_report_needs_a_learned_sampler(tmp_path, capsys):
                         .replace('"../basis.pddl"', '"' + os.path.abspath("domains/basis.pddl") + '"'))
     assert main(["samplers", "edge", "--fragment", str(fragment), "--task", "edge", "--report"]) == 2
     assert "names no learned sampler for edge" in capsys.readouterr().err
+
+
+def test_the_used_logit_learns_only_from_successful_episodes():
+    from pdsketch_mech.learning.sampler_training import TwoHeadLoss
+    episodes = synthetic_episodes(4)
+    episodes[0]["episode_success"], episodes[0]["label"] = np.array([False]), np.zeros_like(episodes[0]["label"])
+    data = param_data(episodes, parent_specs(episodes)["?g"])
+    loss = TwoHeadLoss(data, np.arange(len(data)))
+    failed = data.episode == 0
+    # a failed episode's values say which contexts fail, not which value to try first
+    assert not loss.scored[torch.from_numpy(failed)].any()
+    assert loss.scored[torch.from_numpy(~failed & (data.verified > 0.5))].all()

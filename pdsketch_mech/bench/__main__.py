@@ -10,7 +10,7 @@ import importlib.util
 import json
 import os
 from dataclasses import asdict
-from typing import List, Optional, Sequence
+from typing import Optional, Sequence
 
 from ..cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit,
@@ -198,7 +198,8 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     if report and args.split != "test":
         raise ipc.BenchError("--report: the learning report compares on the test split (drop --split)")
     keep = _keep_folder(args.keep)
-    trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep)
+    trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep,
+                                   workers=args.workers)
     header, cells, lines = samplers.table(trials)
     print(render_text(header, cells, lines), end="")
     if args.markdown:
@@ -290,6 +291,9 @@ def build_parser() -> argparse.ArgumentParser:
     learned.add_argument("--split", choices=("train", "test"), default="test", help="(default test)")
     learned.add_argument("--seed", type=seed, default=0, metavar="S", help="instance seeds S..S+N-1 (default 0)")
     learned.add_argument("--timeout", type=seconds, default=120.0, metavar="S", help="seconds per run (default 120)")
+    learned.add_argument("--workers", type=count, default=1, metavar="K",
+                         help="plans run at a time, each in its own process (default 1; times are measured under "
+                              "that load)")
     learned.add_argument("--fragment", metavar="FILE", help="the fragment (default domains/mechanisms/NAME.pddl)")
     learned.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's)")
     learned.add_argument("--keep", metavar="DIR", help="keep the problems and plan JSONs here (default: a temp folder)")

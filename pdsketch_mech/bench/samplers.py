@@ -51,41 +51,55 @@ def held_out_categories(task_name: str, instance) -> bool:
 
 
 def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed: int, timeout: float,
-                 keep: Optional[str] = None, progress: bool = True) -> List[Trial]:
+                 keep: Optional[str] = None, progress: bool = True, workers: int = 1) -> List[Trial]:
+    """Every instance planned by both methods, `workers` plans at a time (each its own
+    process); trials in (instance, method) order whatever order they finish in."""
+    from concurrent.futures import ThreadPoolExecutor
+
     from ..envs.generate import sample
     from ..envs.tasks import TASKS
-    trials: List[Trial] = []
     with tempfile.TemporaryDirectory() as tmp:
         folder = keep or tmp
+        jobs = []
         for k in range(instances):
             instance = sample(TASKS[task_name], split, seed + k)
-            stem = os.path.join(folder, instance.name)
-            problem = stem + ".pddl"
+            problem = os.path.join(folder, instance.name + ".pddl")
             with open(problem, "w", encoding="utf-8") as handle:
                 handle.write(instance.problem_text())
             held = held_out_categories(task_name, instance)
-            for method, flags in METHODS:
-                out = f"{stem}-{method}.json"
-                outcome = plan_once(fragment, problem, 0, timeout, out, extra=flags)
-                run = make_run(problem, fragment, 0, outcome)
-                stats = outcome.document.get("stats", {})
-                proposals: Dict[str, int] = {}
-                for part in stats.get("proposals", {}).values():
-                    for name, n in part.items():
-                        proposals[name] = proposals.get(name, 0) + int(n)
-                trial = Trial(instance.name, held, method, run.status, run.time_s, proposals,
-                              {k: int(v) for k, v in stats.get("simulated", {}).items()},
-                              (stats.get("score_ms") or {}).get("median"), run.reason)
-                if trial.status == "solved":
-                    ok, message = replay_once(fragment, problem, out)
-                    if not ok:
-                        trial.status, trial.reason = "invalid", f"did not replay: {message}"
-                trials.append(trial)
-                if progress:
-                    print(f"  {instance.name}{' (held-out category)' if held else ''} {method}: {trial.status} in "
-                          f"{trial.time_s:.1f} s, {trial.proposed} proposals, {trial.evaluated} simulated",
-                          file=sys.stderr, flush=True)
-    return trials
+            jobs += [(instance.name, problem, held, method, flags) for method, flags in METHODS]
+
+        def run(job) -> Trial:
+            trial = _trial(fragment, timeout, *job)
+            if progress:
+                print(f"  {trial.instance}{' (held-out category)' if trial.held_out else ''} {trial.method}: "
+                      f"{trial.status} in {trial.time_s:.1f} s, {trial.proposed} proposals, "
+                      f"{trial.evaluated} simulated", file=sys.stderr, flush=True)
+            return trial
+
+        with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:  # threads: each plan is a process
+            return list(pool.map(run, jobs))
+
+
+def _trial(fragment: str, timeout: float, name: str, problem: str, held: bool, method: str,
+           flags: Sequence[str]) -> Trial:
+    """Plan one instance with one method in its own process; replay a solved plan."""
+    out = f"{problem[:-len('.pddl')]}-{method}.json"
+    outcome = plan_once(fragment, problem, 0, timeout, out, extra=tuple(flags))
+    run = make_run(problem, fragment, 0, outcome)
+    stats = outcome.document.get("stats", {})
+    proposals: Dict[str, int] = {}
+    for part in stats.get("proposals", {}).values():
+        for sampler, n in part.items():
+            proposals[sampler] = proposals.get(sampler, 0) + int(n)
+    trial = Trial(name, held, method, run.status, run.time_s, proposals,
+                  {k: int(v) for k, v in stats.get("simulated", {}).items()},
+                  (stats.get("score_ms") or {}).get("median"), run.reason)
+    if trial.status == "solved":
+        ok, message = replay_once(fragment, problem, out)
+        if not ok:
+            trial.status, trial.reason = "invalid", f"did not replay: {message}"
+    return trial
 
 
 def _median(values: Sequence[float]) -> str:

@@ -45,6 +45,7 @@ class ParamData:
     label: np.ndarray            # (n,)
     episode: np.ndarray          # (n,): which episode (validation splits by episode)
     verified: np.ndarray         # (n,): 1 a value, 0 a proposal that failed verification
+    success: np.ndarray          # (n,): 1 if the row's episode succeeded
     weight: np.ndarray           # (n,): how many rows each stands for (rejected ones subsampled)
 
     def __len__(self) -> int:
@@ -117,7 +118,7 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
     beyond REJECTED_CAP per value, by `seed`)."""
     urdf_ids: Dict[str, int] = {}
     cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "poses", "label", "episode",
-                                             "verified")}
+                                             "verified", "success")}
     parent_rows: List[list] = [[] for _ in spec.parents]
     for ep in episodes:
         assets = [str(a) for a in ep["episode_assets"][0]]
@@ -141,6 +142,7 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
             cols["label"].append(int(ep["label"][row]))
             cols["episode"].append(int(ep["episode_id"][0]))
             cols["verified"].append(int(ep["verified"][row]) if "verified" in ep else 1)
+            cols["success"].append(float(ep["episode_success"][0]))
     verified = np.asarray(cols["verified"], dtype=np.float32)
     keep, weight = _subsample_rejected(verified, seed)
     cols = {k: [v[i] for i in keep] for k, v in cols.items()}
@@ -153,7 +155,8 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
                      f32(cols["present"], (n, len(spec.parents))), list(urdf_ids),
                      np.asarray(cols["cloud"], dtype=np.int64).reshape(n, m), f32(cols["sizes"], (n, m, 3)),
                      f32(cols["poses"], (n, m, 7)), np.asarray(cols["label"], dtype=np.float32),
-                     np.asarray(cols["episode"], dtype=np.int64), verified[keep], weight[keep])
+                     np.asarray(cols["episode"], dtype=np.int64), verified[keep],
+                     np.asarray(cols["success"], dtype=np.float32), weight[keep])
 
 
 def _subsample_rejected(verified: np.ndarray, seed: int) -> Tuple[np.ndarray, np.ndarray]:

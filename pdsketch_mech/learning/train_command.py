@@ -22,7 +22,7 @@ from ..lang.nodes import Domain
 from ..lang.parser import parse_file
 from ..lang.writer import write_domain
 from ..samplers.learned.checkpoint import SUFFIX, metadata_path, save
-from .sampler_data import read_episodes
+from .sampler_data import parent_specs, read_episodes
 from .sampler_report import write_report
 from .sampler_training import TrainConfig, train_mechanism
 
@@ -64,13 +64,16 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
     from tqdm import tqdm
     episodes = read_episodes(data)
     started = time.perf_counter()
-    with tqdm(total=None, file=sys.stderr, unit="epoch", desc=f"train {name}", disable=quiet,
+    total = len(parent_specs(episodes)) * config.epochs  # an upper bound: a parameter never used is skipped
+    with tqdm(total=total, file=sys.stderr, unit="epoch", desc=f"train {name}", disable=quiet,
               dynamic_ncols=True) as bar:
         def progress(variable: str, epoch: int, train_loss: float, held_loss: float) -> None:
             bar.set_postfix_str(f"{variable} epoch {epoch + 1}/{config.epochs}: loss {train_loss:.3f}, "
                                 f"validation {held_loss:.3f}")
             bar.update(1)
         model, reports = train_mechanism(episodes, config, progress)
+        bar.total = bar.n  # early stopping and skipped parameters end it before the bound
+        bar.refresh()
     info = {**info, "seconds_training": time.perf_counter() - started}
     rows = sum(r.rows for r in reports)
     meta = {"fragment": os.path.relpath(fragment, os.path.dirname(checkpoint)), "seed": config.seed,

@@ -102,14 +102,12 @@ class StepSampler:
         name, rest = needed[0], needed[1:]
         holder = self.placeholders[name]
         stream = self.streams[holder.stream]
-        hook = None
-        if self.verify_observers:
-            def hook(candidate, value):
-                for observe in self.verify_observers:
-                    observe(request, candidate, value)
+        def verified(candidate, value):
+            for observe in self.verify_observers:
+                observe(request, candidate, value)
         request = SampleRequest(stream.name, tuple(values.get(v, v) for v in holder.inputs),
                                 tuple(q.name for q in stream.inputs), step, poses, {**parents, **values}, self.deadline,
-                                hook)
+                                verified if self.verify_observers else None)
         key = self.key(stream.name)
         drawn = 0
         for value in self.sampler_for(stream.name, step, name).draw(world, request, rng):

@@ -2,8 +2,9 @@
 
 For a mechanism step whose parameter has a classifier, the step's stream takes a batch of
 BATCH proposals from its generic sampler (a checkpoint of values only: a pool of verified
-values, RankedSampler says why), scores the batch in one forward pass in the step's context (the mechanism's objects where they are now, the values its earlier steps
-drew), and goes through it best first. A share of the walk (EXPLORE) takes one at random
+values, RankedSampler says why), scores the batch in one forward pass in the step's context
+(the mechanism's objects where they are now, the values its earlier steps drew), and goes
+through it best first. A share of the walk (EXPLORE) takes one at random
 from the rest instead, and every member of a batch is still used in the end: the ranking
 reorders, it never removes, so the planner stays as complete as with the generic sampler.
 """
