@@ -18,7 +18,8 @@ from ..cli import (
 )
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
-from . import ipc
+from . import ipc, paper_commands
+from .plans import check_domain
 from .tables import render_markdown, render_text
 
 INSTALL_HINT = "pyperplan is not installed; it is a benchmark-only dependency: pip install -e '.[bench]'"
@@ -121,18 +122,6 @@ def _keep_folder(keep: Optional[str]) -> Optional[str]:
     return keep
 
 
-def _check_domain(domain: str, problem: Optional[str] = None) -> None:
-    """The files exist and parse (a located error, exit 2, before any planning)."""
-    from ..lang.loader import load_domain, load_problem
-
-    for path in [domain] + ([problem] if problem else []):
-        if not os.path.isfile(path):
-            raise ipc.BenchError(f"{path}: no such file")
-    loaded = load_domain([domain])
-    if problem:
-        load_problem(problem, [loaded])
-
-
 def run_task_command(args: argparse.Namespace) -> int:
     """`task`: a task distribution with one object's asset pinned, N seeds per asset."""
     from . import tasks
@@ -144,7 +133,7 @@ def run_task_command(args: argparse.Namespace) -> int:
         raise ipc.BenchError(str(error)) from None
     if args.gif and not args.keep:
         raise ipc.BenchError("--gif saves replays beside the kept files: add --keep DIR")
-    _check_domain(args.domain)
+    check_domain(args.domain)
     keep = _keep_folder(args.keep)
     runs = tasks.run_task(args.task, role, assets, range(args.seeds), args.timeout, args.domain,
                           args.basis_only, keep, args.gif)
@@ -160,7 +149,7 @@ def run_reach_command(args: argparse.Namespace) -> int:
     """`reach`: when does the planner create (and start refining) the given skeletons?"""
     from . import reach
 
-    _check_domain(args.domain, args.problem)
+    check_domain(args.domain, args.problem)
     try:
         reach.check_patterns(args.skeleton, args.domain, args.problem)
     except ValueError as error:
@@ -190,7 +179,7 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     fragment = args.fragment or default_fragment(args.name)
     if not os.path.isfile(fragment):
         raise ipc.BenchError(f"{fragment}: no such file")
-    _check_domain(fragment)
+    check_domain(fragment)
     task = args.task or task_of(fragment, args.name)
     if task is None:
         raise ipc.BenchError(f"{args.name}: no task distribution of that name or of its demonstration; give --task")
@@ -304,6 +293,7 @@ def build_parser() -> argparse.ArgumentParser:
                          help="also put the table and Fig. 8 into the mechanism's learning report (the .md beside "
                               "its checkpoint; a comparison written before is replaced)")
     learned.set_defaults(func=run_samplers_command)
+    paper_commands.add_parsers(commands)
     return parser
 
 

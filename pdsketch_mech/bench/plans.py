@@ -80,10 +80,10 @@ def plan_once(domain: str, problem: str, seed: int, timeout: float, out: str, ba
 
 
 def replay_once(domain: str, problem: str, plan_json: str, render: Optional[str] = None,
-                timeout: float = REPLAY_TIMEOUT) -> Tuple[bool, str]:
-    """Re-execute a saved plan in a fresh process and world (`python -m pdsketch_mech.replay`):
-    (goal reached, its summary line or the reason it failed)."""
-    command = [sys.executable, "-m", "pdsketch_mech.replay", problem, plan_json, domain]
+                timeout: float = REPLAY_TIMEOUT, mechanisms: Sequence[str] = ()) -> Tuple[bool, str]:
+    """Re-execute a saved plan in a fresh process and world (`python -m pdsketch_mech.replay`),
+    with the fragments it was planned with: (goal reached, its summary line or the reason it failed)."""
+    command = [sys.executable, "-m", "pdsketch_mech.replay", problem, plan_json, domain, *mechanisms]
     command += ["--render", render] if render else []
     try:
         done = subprocess.run(command, capture_output=True, text=True, timeout=timeout)
@@ -196,3 +196,16 @@ def _text(data) -> str:
     if data is None:
         return ""
     return data.decode("utf-8", "replace") if isinstance(data, bytes) else data
+
+
+def check_domain(domain: str, problem: Optional[str] = None) -> None:
+    """The files exist and parse (a located error, exit 2, before any planning)."""
+    from ..lang.loader import load_domain, load_problem
+    from .ipc import BenchError
+
+    for path in [domain] + ([problem] if problem else []):
+        if not os.path.isfile(path):
+            raise BenchError(f"{path}: no such file")
+    loaded = load_domain([domain])
+    if problem:
+        load_problem(problem, [loaded])

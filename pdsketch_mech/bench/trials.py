@@ -1,0 +1,196 @@
+"""Benchmark trials that survive interruption: one (task, method, instance) planned in its own
+process and replayed in a fresh one, K at a time locally or as Ray tasks, each finished trial
+appended to OUT/trials.jsonl at once so that a rerun with `--resume` skips it.
+
+A trial carries its problem as text: a Ray worker on another machine writes it to its own
+temporary folder (the domain files are read from the same checkout path on every node).
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tempfile
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Callable, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple
+
+from .plans import make_run, plan_once, replay_once
+
+# method -> how the planner is told: the paper's three rows of Table 1.
+METHOD_FLAGS: Dict[str, Tuple[str, ...]] = {
+    "basis": ("--basis-only",),
+    "macro": ("--no-learned-samplers",),
+    "macro+sampler": (),
+}
+METHODS = tuple(METHOD_FLAGS)
+METHOD_TITLES = {"basis": "Basis only", "macro": "Macro", "macro+sampler": "Macro+Sampler"}
+
+
+class TrialsError(ValueError):
+    """A results folder that cannot be used as asked (one `error:` line, exit 2)."""
+
+
+@dataclass(frozen=True)
+class Job:
+    """What one trial plans: `domain` (+ `mechanisms` merged into it) on `problem_text`."""
+
+    task: str
+    method: str
+    index: int                       # trial number within (task, method); instance seed = seed + index
+    instance: str
+    problem_text: str
+    domain: str
+    mechanisms: Tuple[str, ...] = ()
+    seed: int = 0                    # the planner's --seed
+    timeout: float = 600.0
+
+    @property
+    def key(self) -> Tuple[str, str, int]:
+        return self.task, self.method, self.index
+
+
+@dataclass
+class Trial:
+    """One finished trial, as trials.jsonl stores it."""
+
+    task: str
+    method: str
+    index: int
+    instance: str
+    seed: int
+    status: str                      # solved | unsolved | crashed | invalid (did not replay)
+    time_s: float
+    skeletons: int = 0
+    refined: int = 0
+    steps: int = 0
+    proposals: Dict[str, Dict[str, int]] = field(default_factory=dict)   # generic/learned -> sampler -> n
+    simulated: Dict[str, int] = field(default_factory=dict)             # sampler -> values simulated
+    reason: str = ""
+
+    @property
+    def key(self) -> Tuple[str, str, int]:
+        return self.task, self.method, self.index
+
+    @property
+    def samples(self) -> int:
+        """Values simulated over all samplers (the paper's "samples evaluated")."""
+        return sum(self.simulated.values())
+
+
+def run_job(job: Job) -> Trial:
+    """Plan `job` in its own process and replay a solved plan in a fresh one."""
+    with tempfile.TemporaryDirectory(prefix="pdsketch-trial-") as folder:
+        problem = os.path.join(folder, job.instance + ".pddl")
+        with open(problem, "w", encoding="utf-8") as handle:
+            handle.write(job.problem_text)
+        out = os.path.join(folder, "plan.json")
+        extra = METHOD_FLAGS[job.method] + (("--mechanisms",) + job.mechanisms if job.mechanisms else ())
+        outcome = plan_once(job.domain, problem, job.seed, job.timeout, out, extra=extra)
+        run = make_run(problem, job.domain, job.seed, outcome)
+        stats = outcome.document.get("stats", {})
+        trial = Trial(job.task, job.method, job.index, job.instance, job.seed, run.status, round(run.time_s, 3),
+                      run.skeletons, run.refined, run.steps,
+                      {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
+                      {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason)
+        if trial.status == "solved":
+            ok, message = replay_once(job.domain, problem, out, mechanisms=job.mechanisms)
+            if not ok:
+                trial.status, trial.reason = "invalid", f"did not replay: {message}"
+        return trial
+
+
+def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> Iterator[Trial]:
+    """Trials of `jobs` as they finish: `workers` planner processes at a time, or Ray tasks
+    (`ray.init(num_cpus=workers)` locally, or the cluster RAY_ADDRESS names)."""
+    if backend == "ray":
+        yield from _ray_execute(jobs, workers)
+        return
+    from concurrent.futures import ThreadPoolExecutor, as_completed
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:  # threads: each plan is a process
+        futures = [pool.submit(run_job, job) for job in jobs]
+        try:
+            for future in as_completed(futures):
+                yield future.result()
+        finally:
+            for future in futures:  # an interrupt: do not start the queued ones
+                future.cancel()
+
+
+def _ray_execute(jobs: Sequence[Job], workers: int) -> Iterator[Trial]:
+    import ray
+    started_here = not ray.is_initialized()
+    if started_here:
+        ray.init(num_cpus=None if os.environ.get("RAY_ADDRESS") else workers, include_dashboard=False,
+                 log_to_driver=False, logging_level="ERROR", configure_logging=False)
+    try:
+        remote = ray.remote(num_cpus=1)(run_job)
+        pending = [remote.remote(job) for job in jobs]
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            yield ray.get(done[0])
+    finally:
+        if started_here:
+            ray.shutdown()
+
+
+class TrialStore:
+    """OUT/config.json (what the trials were run with) and OUT/trials.jsonl (one line per
+    finished trial, flushed and synced as it lands: an interrupt loses only trials in flight)."""
+
+    def __init__(self, folder: str, config: Dict[str, object], resume: bool):
+        self.folder = folder
+        self.path = os.path.join(folder, "trials.jsonl")
+        config_path = os.path.join(folder, "config.json")
+        if os.path.exists(self.path) or os.path.exists(config_path):
+            if not resume:
+                raise TrialsError(f"{folder}: holds results of an earlier run; --resume continues it, "
+                                  f"or give another --out")
+            with open(config_path, encoding="utf-8") as handle:
+                before = json.load(handle)
+            changed = sorted(k for k in config if k in before and before[k] != config[k])
+            if changed:
+                raise TrialsError(f"{folder}: was run with other settings ({', '.join(f'{k}={before[k]}' for k in changed)})"
+                                  f"; resume with those, or give another --out")
+        os.makedirs(folder, exist_ok=True)
+        tmp = config_path + ".tmp"
+        with open(tmp, "w", encoding="utf-8") as handle:
+            json.dump(config, handle, indent=1)
+        os.replace(tmp, config_path)
+        self.trials: Dict[Tuple[str, str, int], Trial] = {t.key: t for t in self._read()}
+
+    def _read(self) -> List[Trial]:
+        if not os.path.exists(self.path):
+            return []
+        out = []
+        with open(self.path, encoding="utf-8") as handle:
+            for line in handle:
+                try:
+                    out.append(Trial(**json.loads(line)))
+                except (ValueError, TypeError):
+                    continue  # a line cut short by a kill: that trial runs again
+        return out
+
+    def add(self, trial: Trial) -> None:
+        self.trials[trial.key] = trial
+        with open(self.path, "a", encoding="utf-8") as handle:
+            handle.write(json.dumps(asdict(trial)) + "\n")
+            handle.flush()
+            os.fsync(handle.fileno())
+
+    def pending(self, jobs: Iterable[Job]) -> List[Job]:
+        return [job for job in jobs if job.key not in self.trials]
+
+
+def run_all(store: TrialStore, jobs: Sequence[Job], workers: int, backend: str,
+            on_trial: Optional[Callable[[Trial], None]] = None) -> List[Trial]:
+    """Run the jobs the store has no trial for; every job's trial, in the jobs' order."""
+    todo = store.pending(jobs)
+    started = time.perf_counter()
+    for done, trial in enumerate(execute(todo, workers, backend), 1):
+        store.add(trial)
+        if on_trial is not None:
+            on_trial(trial)
+        elif sys.stderr.isatty():
+            print(f"\r{done}/{len(todo)} trials, {time.perf_counter() - started:.0f} s", end="", file=sys.stderr)
+    return [store.trials[job.key] for job in jobs if job.key in store.trials]

@@ -1,0 +1,126 @@
+"""`bench mechanisms` (Table 1) and `bench compose` (Table 2): the resumable trial store, the
+same instances for every method, the tables in the paper's format, argument errors; one
+slow end-to-end run of the CLI (plan, replay, resume)."""
+import json
+import os
+
+import pytest
+
+from pdsketch_mech.bench import compose, mechanisms
+from pdsketch_mech.bench.__main__ import main
+from pdsketch_mech.bench.trials import Job, Trial, TrialsError, TrialStore
+
+
+def trial(task, method, index, status="solved", time_s=1.0, simulated=None):
+    return Trial(task, method, index, f"{task}-test-{index}", index, status, time_s,
+                 simulated=simulated if simulated is not None else {"grasp": 4})
+
+
+def job(task, method, index):
+    return Job(task, method, index, f"{task}-test-{index}", "(define ...)", "d.pddl")
+
+
+def test_store_keeps_finished_trials_and_resume_skips_them(tmp_path):
+    folder = str(tmp_path / "run")
+    store = TrialStore(folder, {"timeout_s": 60.0}, resume=False)
+    store.add(trial("edge", "macro", 0))
+    with open(os.path.join(folder, "trials.jsonl"), "a") as handle:
+        handle.write('{"task": "edge", "method": "macro", "ind')  # a kill in mid-line
+    again = TrialStore(folder, {"timeout_s": 60.0}, resume=True)
+    pending = again.pending([job("edge", "macro", 0), job("edge", "macro", 1), job("edge", "basis", 0)])
+    assert [j.key for j in pending] == [("edge", "macro", 1), ("edge", "basis", 0)]
+    assert again.trials[("edge", "macro", 0)].status == "solved"
+
+
+def test_store_refuses_to_overwrite_or_mix_settings(tmp_path):
+    folder = str(tmp_path / "run")
+    TrialStore(folder, {"timeout_s": 60.0}, resume=False).add(trial("edge", "macro", 0))
+    with pytest.raises(TrialsError, match="--resume"):
+        TrialStore(folder, {"timeout_s": 60.0}, resume=False)
+    with pytest.raises(TrialsError, match="timeout_s=60.0"):
+        TrialStore(folder, {"timeout_s": 600.0}, resume=True)
+    assert len(open(os.path.join(folder, "trials.jsonl")).readlines()) == 1  # nothing lost
+
+
+def test_every_method_plans_the_same_instances():
+    jobs = mechanisms.instance_jobs("com", ["basis", "macro", "macro+sampler"], 2, 5, 60.0, "com.pddl")
+    by_method = {}
+    for j in jobs:
+        by_method.setdefault(j.method, []).append((j.instance, j.problem_text, j.seed))
+    assert len(by_method) == 3 and len({tuple(v) for v in by_method.values()}) == 1
+    assert [i for i, _, _ in by_method["macro"]] == ["com-test-5", "com-test-6"]
+
+
+def test_table1_counts_unfinished_trials_at_the_limit_and_marks_a_lower_bound():
+    column = mechanisms.BY_TASK["edge"]
+    trials = [trial("edge", "macro", 0, time_s=10.0), trial("edge", "macro", 1, "unsolved", 99.0),
+              trial("edge", "macro+sampler", 0, time_s=1.0, simulated={"grasp": 2}),
+              trial("edge", "macro+sampler", 1, time_s=3.0, simulated={"grasp": 2})]
+    header, rows, lines = mechanisms.table(trials, [column], ["macro", "macro+sampler"], timeout=60.0)
+    assert header == ["method", "Edge"]
+    assert rows[0] == ["Macro (ours)", ">35.00 ± 25.00 (med 35.00, 1/2)"]
+    assert rows[1] == ["Macro (paper)", "8.34"]
+    assert rows[2] == ["Macro+Sampler (ours)", "2.00 ± 1.00 (med 2.00, 2/2)"]
+    assert any("2.0x fewer values" in line for line in lines)
+
+
+def test_table1_says_when_nothing_finished_and_draws_the_paper_beside(tmp_path):
+    column = mechanisms.BY_TASK["poking"]
+    trials = [trial("poking", "basis", i, "unsolved", 60.0) for i in range(2)]
+    _, rows, _ = mechanisms.table(trials, [column], ["basis"], timeout=60.0)
+    assert rows == [["Basis only (ours)", ">60 (0/2)"], ["Basis only (paper)", ">600"]]
+    png = tmp_path / "t.png"
+    mechanisms.plot(trials, [column], ["basis"], 60.0, str(png), "t")
+    assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_table2_reports_success_rates_and_the_paper_rates():
+    trials = [trial("hook-slope", "macro+sampler", 0, time_s=12.0), trial("hook-slope", "macro+sampler", 1, "unsolved"),
+              trial("hook-slope", "macro", 0, "invalid")]
+    trials[-1].reason = "did not replay: goal not reached"
+    header, rows, lines = compose.table(trials, [compose.BY_TASK["hook-slope"]], ["macro", "macro+sampler"])
+    assert rows[0] == ["Macro (ours)", "0/1 (0 %)"] and rows[1] == ["Macro (paper)", "0 %"]
+    assert rows[2] == ["Macro+Sampler (ours)", "1/2 (50 %), median 12.0 s"] and rows[3][1] == "90 %"
+    assert any("did not replay" in line for line in lines)
+
+
+def one_error_line(capsys, argv, expected):
+    try:
+        code = main(argv)
+    except SystemExit as exit_:
+        code = exit_.code
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: ") and err.count("\n") == 1, err
+    assert expected in err
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["mechanisms", "--tasks", "edge,nosuch"], "unknown nosuch"),
+    (["mechanisms", "--methods", "macro,fast"], "unknown fast"),
+    (["compose", "--tasks", "edge"], "unknown edge"),
+    (["mechanisms", "--mechanisms-dir", "/nonexistent"], "/nonexistent/edge.pddl: no such file"),
+    (["compose", "--mechanisms-dir", "/nonexistent"], "no .pddl fragments"),
+    (["mechanisms", "--trials", "0"], "--trials"),
+])
+def test_bad_arguments_get_one_line(capsys, argv, expected):
+    one_error_line(capsys, argv, expected)
+
+
+def test_results_of_another_run_are_not_overwritten(tmp_path, capsys):
+    out = tmp_path / "run"
+    TrialStore(str(out), {"kind": "mechanisms"}, resume=False).add(trial("com", "macro", 0))
+    one_error_line(capsys, ["mechanisms", "--tasks", "com", "--out", str(out)], "--resume")
+
+
+@pytest.mark.slow
+def test_table1_end_to_end_plans_replays_and_resumes(tmp_path, capsys):
+    out = str(tmp_path / "t1")
+    argv = ["mechanisms", "--tasks", "com", "--methods", "macro", "--trials", "1", "--timeout", "60", "--out", out,
+            "--quiet"]
+    assert main(argv) == 0
+    results = json.load(open(os.path.join(out, "results.json")))
+    (only,) = results["trials"]
+    assert only["status"] == "solved" and only["instance"] == "com-test-0" and sum(only["simulated"].values()) > 0
+    assert os.path.getsize(os.path.join(out, "table.png")) > 0
+    assert main(argv + ["--resume"]) == 0  # nothing left to run: the same table from the store
+    assert "0 to run" in capsys.readouterr().err
