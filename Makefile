@@ -5,7 +5,7 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test bench-ipc setup clean
+.PHONY: demo test bench bench-ipc setup clean
 
 demo: $(STAMP)
 	$(BIN)/python -m pdsketch_mech.check domains/basis.pddl domains/mechanisms/*.pddl problems/*.pddl
@@ -15,6 +15,11 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+# A short Table 1: all six tasks, Macro+Sampler, 3 test instances each (reruns resume).
+bench: $(STAMP)
+	$(BIN)/python -m pdsketch_mech.bench mechanisms --methods macro+sampler --trials 3 --timeout 120 \
+	    --out out/bench/table1-short --resume
 
 bench-ipc: $(STAMP)
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[bench]'

@@ -124,3 +124,12 @@ def test_table1_end_to_end_plans_replays_and_resumes(tmp_path, capsys):
     assert os.path.getsize(os.path.join(out, "table.png")) > 0
     assert main(argv + ["--resume"]) == 0  # nothing left to run: the same table from the store
     assert "0 to run" in capsys.readouterr().err
+
+
+def test_every_column_is_a_task_with_a_shipped_mechanism():
+    from pdsketch_mech.envs.tasks import TASKS
+    from conftest import ROOT
+    for column in mechanisms.TABLE1:
+        assert column.task in TASKS
+        assert os.path.isfile(mechanisms.fragment_of(column, os.path.join(ROOT, "domains", "mechanisms")))
+    assert all(c.task in TASKS for c in compose.TABLE2)

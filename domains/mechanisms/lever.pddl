@@ -25,4 +25,5 @@
     :actions (
       (grasp ?weight ?support ?g1 ?t1)
       (place ?weight ?target ?p ?t2)
-      (grasp ?target ?target-support ?g2 ?t3))))
+      (grasp ?target ?target-support ?g2 ?t3))
+    :sampler "lever.samplers.safetensors"))

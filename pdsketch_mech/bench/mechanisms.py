@@ -34,7 +34,7 @@ TABLE1: Tuple[PaperTask, ...] = (
     PaperTask("lever", "Lever", "lever", {"basis": 523.18, "macro": 1.38, "macro+sampler": 1.55}),
     PaperTask("poking", "Poking", "poking", {"basis": None, "macro": 494.30, "macro+sampler": 97.76}),
     PaperTask("com", "CoM", "com", {"basis": 19.30, "macro": 17.58, "macro+sampler": 0.97}),
-    PaperTask("slope", "Slope&Blocker", "slope-blocker", {"basis": None, "macro": 148.57, "macro+sampler": 4.11}),
+    PaperTask("slope-blocker", "Slope&Blocker", "slope-blocker", {"basis": None, "macro": 148.57, "macro+sampler": 4.11}),
 )
 PAPER_LIMIT = 600.0
 BY_TASK = {t.task: t for t in TABLE1}
@@ -162,9 +162,9 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequenc
         offset = (2 * k - len(methods) + 0.5) * width
         bars = ax.bar(x + offset, heights, width, yerr=errors, color=colours.get(m), label=f"{METHOD_TITLES[m]} (ours)")
         for bar, c in zip(bars, ours):
-            if c is not None:
-                ax.annotate(f"{c.solved}/{c.trials}", (bar.get_x() + width / 2, bar.get_height()), ha="center",
-                            va="bottom", fontsize=6)
+            if c is not None:  # above the error bar
+                ax.annotate(f"{c.solved}/{c.trials}", (bar.get_x() + width / 2, c.mean_s + c.stderr_s), ha="center",
+                            va="bottom", fontsize=7)
         paper = [c.paper[m] if c.paper[m] is not None else PAPER_LIMIT for c in columns]
         ax.bar(x + offset + width, paper, width, color="white", edgecolor=colours.get(m), hatch="///",
                label=f"{METHOD_TITLES[m]} (paper)")
