@@ -133,3 +133,15 @@ def test_every_column_is_a_task_with_a_shipped_mechanism():
         assert column.task in TASKS
         assert os.path.isfile(mechanisms.fragment_of(column, os.path.join(ROOT, "domains", "mechanisms")))
     assert all(c.task in TASKS for c in compose.TABLE2)
+
+
+@pytest.mark.slow
+def test_the_ray_backend_gives_the_trials_the_local_one_gives():
+    pytest.importorskip("ray")
+    from conftest import ROOT
+    from pdsketch_mech.bench.trials import execute
+    jobs = mechanisms.instance_jobs("com", ["macro"], 1, 3, 60.0, os.path.join(ROOT, "domains", "mechanisms", "com.pddl"))
+    (local,) = execute(jobs, 1, "local")
+    (remote,) = execute(jobs, 1, "ray")
+    assert local.status == remote.status == "solved"
+    assert (local.simulated, local.proposals, local.steps) == (remote.simulated, remote.proposals, remote.steps)

@@ -104,7 +104,8 @@ def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> It
     """Trials of `jobs` as they finish: `workers` planner processes at a time, or Ray tasks
     (`ray.init(num_cpus=workers)` locally, or the cluster RAY_ADDRESS names)."""
     if backend == "ray":
-        yield from _ray_execute(jobs, workers)
+        from ..ray_tasks import ray_unordered
+        yield from ray_unordered(run_job, jobs, workers)
         return
     from concurrent.futures import ThreadPoolExecutor, as_completed
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:  # threads: each plan is a process
@@ -115,23 +116,6 @@ def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> It
         finally:
             for future in futures:  # an interrupt: do not start the queued ones
                 future.cancel()
-
-
-def _ray_execute(jobs: Sequence[Job], workers: int) -> Iterator[Trial]:
-    import ray
-    started_here = not ray.is_initialized()
-    if started_here:
-        ray.init(num_cpus=None if os.environ.get("RAY_ADDRESS") else workers, include_dashboard=False,
-                 log_to_driver=False, logging_level="ERROR", configure_logging=False)
-    try:
-        remote = ray.remote(num_cpus=1)(run_job)
-        pending = [remote.remote(job) for job in jobs]
-        while pending:
-            done, pending = ray.wait(pending, num_returns=1)
-            yield ray.get(done[0])
-    finally:
-        if started_here:
-            ray.shutdown()
 
 
 class TrialStore:

@@ -21,6 +21,7 @@ from typing import Callable, Dict, Iterator, List, Optional, Sequence
 
 import numpy as np
 
+from ..ray_tasks import ray_unordered
 from .selfplay import SelfPlayConfig, run_episode
 from .selfplay_store import done_episodes, open_folder, summary, update_manifest, write_episode
 
@@ -51,28 +52,11 @@ def _work(job) -> Dict[str, np.ndarray]:
     return run_episode(config, episode)
 
 
-def _ray_results(config: SelfPlayConfig, todo: Sequence[int], workers: int) -> Iterator[Dict[str, np.ndarray]]:
-    import ray
-    started_here = not ray.is_initialized()
-    if started_here:
-        ray.init(num_cpus=None if os.environ.get("RAY_ADDRESS") else workers, include_dashboard=False,
-                 log_to_driver=False, logging_level="ERROR", configure_logging=False,
-                 runtime_env={"env_vars": {"PYTHONHASHSEED": "0"}})
-    try:
-        episode = ray.remote(num_cpus=1)(run_episode)
-        pending = [episode.remote(config, e) for e in todo]
-        while pending:
-            done, pending = ray.wait(pending, num_returns=1)
-            yield ray.get(done[0])
-    finally:
-        if started_here:
-            ray.shutdown()
-
-
 def _results(config: SelfPlayConfig, todo: Sequence[int], workers: int,
              backend: str = "local") -> Iterator[Dict[str, np.ndarray]]:
     if backend == "ray":
-        yield from _ray_results(config, todo, workers)
+        # Set-iteration order must not depend on a worker's hash seed.
+        yield from ray_unordered(_work, [(config, e) for e in todo], workers, {"PYTHONHASHSEED": "0"})
         return
     if workers <= 1 or len(todo) <= 1:
         for episode in todo:
