@@ -129,10 +129,12 @@ def summary_lines(figures: Dict[Tuple[str, str], Optional[Cell]], columns: Seque
     if "macro" in methods and "macro+sampler" in methods:
         for c in columns:
             generic, learned = figures[c.task, "macro"], figures[c.task, "macro+sampler"]
-            if generic and learned and learned.median_samples:
-                lines.append(f"{c.title}: learned samplers simulate {generic.median_samples / learned.median_samples:.1f}x "
-                             f"fewer values (median {learned.median_samples:g} against {generic.median_samples:g}), "
-                             f"mean time {learned.mean_s:.2f} s against {generic.mean_s:.2f} s")
+            if generic and learned and learned.median_samples and generic.median_samples:
+                ratio = generic.median_samples / learned.median_samples
+                fewer = f"{ratio:.1f}x fewer" if ratio >= 1 else f"{1 / ratio:.1f}x more"
+                lines.append(f"{c.title}: learned samplers simulate {fewer} values (median {learned.median_samples:g} "
+                             f"against {generic.median_samples:g}), mean time {learned.mean_s:.2f} s against "
+                             f"{generic.mean_s:.2f} s")
     return lines
 
 
