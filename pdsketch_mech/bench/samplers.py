@@ -17,9 +17,9 @@ import tempfile
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from .plans import make_run, plan_once, replay_once
+from .trials import Job, run_job
 
-METHODS = (("macro", ("--no-learned-samplers",)), ("macro+sampler", ()))
+METHODS = ("macro", "macro+sampler")   # the paper's Macro and Macro+Sampler (trials.METHOD_FLAGS)
 
 
 @dataclass
@@ -59,18 +59,18 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
     from ..envs.generate import sample
     from ..envs.tasks import TASKS
     with tempfile.TemporaryDirectory() as tmp:
-        folder = keep or tmp
         jobs = []
         for k in range(instances):
             instance = sample(TASKS[task_name], split, seed + k)
-            problem = os.path.join(folder, instance.name + ".pddl")
-            with open(problem, "w", encoding="utf-8") as handle:
-                handle.write(instance.problem_text())
             held = held_out_categories(task_name, instance)
-            jobs += [(instance.name, problem, held, method, flags) for method, flags in METHODS]
+            jobs += [(held, Job(task_name, method, k, instance.name, instance.problem_text(), fragment, (), 0, timeout))
+                     for method in METHODS]
 
-        def run(job) -> Trial:
-            trial = _trial(fragment, timeout, *job)
+        def run(item: Tuple[bool, Job]) -> Trial:
+            held, job = item
+            done = run_job(job, keep or tmp)
+            trial = Trial(job.instance, held, job.method, done.status, done.time_s, _summed(done.proposals),
+                          done.simulated, done.score_ms, done.reason)
             if progress:
                 print(f"  {trial.instance}{' (held-out category)' if trial.held_out else ''} {trial.method}: "
                       f"{trial.status} in {trial.time_s:.1f} s, {trial.proposed} proposals, "
@@ -81,25 +81,13 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
             return list(pool.map(run, jobs))
 
 
-def _trial(fragment: str, timeout: float, name: str, problem: str, held: bool, method: str,
-           flags: Sequence[str]) -> Trial:
-    """Plan one instance with one method in its own process; replay a solved plan."""
-    out = f"{problem[:-len('.pddl')]}-{method}.json"
-    outcome = plan_once(fragment, problem, 0, timeout, out, extra=tuple(flags))
-    run = make_run(problem, fragment, 0, outcome)
-    stats = outcome.document.get("stats", {})
-    proposals: Dict[str, int] = {}
-    for part in stats.get("proposals", {}).values():
+def _summed(proposals: Dict[str, Dict[str, int]]) -> Dict[str, int]:
+    """Proposals per sampler, generic and learned together."""
+    out: Dict[str, int] = {}
+    for part in proposals.values():
         for sampler, n in part.items():
-            proposals[sampler] = proposals.get(sampler, 0) + int(n)
-    trial = Trial(name, held, method, run.status, run.time_s, proposals,
-                  {k: int(v) for k, v in stats.get("simulated", {}).items()},
-                  (stats.get("score_ms") or {}).get("median"), run.reason)
-    if trial.status == "solved":
-        ok, message = replay_once(fragment, problem, out)
-        if not ok:
-            trial.status, trial.reason = "invalid", f"did not replay: {message}"
-    return trial
+            out[sampler] = out.get(sampler, 0) + n
+    return out
 
 
 def _median(values: Sequence[float]) -> str:
@@ -120,7 +108,7 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
     for label, group in groups:
         if not group or (label != "all" and len(group) == len(trials)):
             continue
-        for method, _ in METHODS:
+        for method in METHODS:
             mine = [t for t in group if t.method == method]
             solved = [t for t in mine if t.status == "solved"]
             samplers = sorted({n for t in mine for n in list(t.proposals) + list(t.simulated)})
@@ -160,7 +148,7 @@ def plot(trials: Sequence[Trial], path: str, title: str) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
     x = np.arange(len(names))
     for ax, what in zip(axes, ("proposals", "simulated")):
-        for k, (method, _) in enumerate(METHODS):
+        for k, method in enumerate(METHODS):
             mine = [t for t in trials if t.method == method]
             heights = [statistics.median(getattr(t, what).get(n, 0) for t in mine) if mine else 0 for n in names]
             ax.bar(x + (k - 0.5) * 0.4, heights, 0.4, label=method)

@@ -9,12 +9,11 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 import tempfile
-import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple
 
+from ..cli import write_text
 from .plans import make_run, plan_once, replay_once
 
 # method -> how the planner is told: the paper's three rows of Table 1.
@@ -67,6 +66,7 @@ class Trial:
     proposals: Dict[str, Dict[str, int]] = field(default_factory=dict)   # generic/learned -> sampler -> n
     simulated: Dict[str, int] = field(default_factory=dict)             # sampler -> values simulated
     reason: str = ""
+    score_ms: Optional[float] = None  # median time to score a batch with learned samplers
 
     @property
     def key(self) -> Tuple[str, str, int]:
@@ -78,26 +78,29 @@ class Trial:
         return sum(self.simulated.values())
 
 
-def run_job(job: Job) -> Trial:
-    """Plan `job` in its own process and replay a solved plan in a fresh one."""
-    with tempfile.TemporaryDirectory(prefix="pdsketch-trial-") as folder:
-        problem = os.path.join(folder, job.instance + ".pddl")
-        with open(problem, "w", encoding="utf-8") as handle:
-            handle.write(job.problem_text)
-        out = os.path.join(folder, "plan.json")
-        extra = METHOD_FLAGS[job.method] + (("--mechanisms",) + job.mechanisms if job.mechanisms else ())
-        outcome = plan_once(job.domain, problem, job.seed, job.timeout, out, extra=extra)
-        run = make_run(problem, job.domain, job.seed, outcome)
-        stats = outcome.document.get("stats", {})
-        trial = Trial(job.task, job.method, job.index, job.instance, job.seed, run.status, round(run.time_s, 3),
-                      run.skeletons, run.refined, run.steps,
-                      {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
-                      {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason)
-        if trial.status == "solved":
-            ok, message = replay_once(job.domain, problem, out, mechanisms=job.mechanisms)
-            if not ok:
-                trial.status, trial.reason = "invalid", f"did not replay: {message}"
-        return trial
+def run_job(job: Job, folder: Optional[str] = None) -> Trial:
+    """Plan `job` in its own process and replay a solved plan in a fresh one; the problem
+    and the plan JSON are kept in `folder` if given (INSTANCE.pddl, INSTANCE-METHOD.json)."""
+    if folder is None:
+        with tempfile.TemporaryDirectory(prefix="pdsketch-trial-") as tmp:
+            return run_job(job, tmp)
+    problem = os.path.join(folder, job.instance + ".pddl")
+    write_text(problem, job.problem_text)  # atomic: another method's planner may be reading it
+    out = os.path.join(folder, f"{job.instance}-{job.method}.json")
+    extra = METHOD_FLAGS[job.method] + (("--mechanisms",) + job.mechanisms if job.mechanisms else ())
+    outcome = plan_once(job.domain, problem, job.seed, job.timeout, out, extra=extra)
+    run = make_run(problem, job.domain, job.seed, outcome)
+    stats = outcome.document.get("stats", {})
+    trial = Trial(job.task, job.method, job.index, job.instance, job.seed, run.status, round(run.time_s, 3),
+                  run.skeletons, run.refined, run.steps,
+                  {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
+                  {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason,
+                  (stats.get("score_ms") or {}).get("median"))
+    if trial.status == "solved":
+        ok, message = replay_once(job.domain, problem, out, mechanisms=job.mechanisms)
+        if not ok:
+            trial.status, trial.reason = "invalid", f"did not replay: {message}"
+    return trial
 
 
 def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> Iterator[Trial]:
@@ -167,14 +170,10 @@ class TrialStore:
 
 
 def run_all(store: TrialStore, jobs: Sequence[Job], workers: int, backend: str,
-            on_trial: Optional[Callable[[Trial], None]] = None) -> List[Trial]:
-    """Run the jobs the store has no trial for; every job's trial, in the jobs' order."""
-    todo = store.pending(jobs)
-    started = time.perf_counter()
-    for done, trial in enumerate(execute(todo, workers, backend), 1):
+            on_trial: Callable[[Trial], None]) -> List[Trial]:
+    """Run the jobs the store has no trial for (`on_trial` told of each as it lands); every
+    job's trial, in the jobs' order."""
+    for trial in execute(store.pending(jobs), workers, backend):
         store.add(trial)
-        if on_trial is not None:
-            on_trial(trial)
-        elif sys.stderr.isatty():
-            print(f"\r{done}/{len(todo)} trials, {time.perf_counter() - started:.0f} s", end="", file=sys.stderr)
+        on_trial(trial)
     return [store.trials[job.key] for job in jobs if job.key in store.trials]
