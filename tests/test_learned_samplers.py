@@ -17,9 +17,12 @@ from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.learning.sampler_data import param_data, parent_specs
 from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, to_batch, train_mechanism
 from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
-from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, save
-from pdsketch_mech.samplers.learned.pointnet import EncoderConfig, ball_query, farthest_points
+from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, load_numpy, save
+from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
+from pdsketch_mech.samplers.learned.forward import NumpyClassifiers
+from pdsketch_mech.samplers.learned.pointnet import ball_query, farthest_points
 from pdsketch_mech.samplers.learned.ranked import RankedSampler, walk_order
+from pdsketch_mech.samplers.learned.specs import EncoderConfig, ParamSpec
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TINY = EncoderConfig(centres=(16, 4), radii=(0.4, 0.8), neighbours=8, widths1=(8, 16), widths2=(16, 16), out=16)
@@ -132,6 +135,50 @@ def com_fragment(tmp_path):
     return str(path)
 
 
+def as_numpy(model) -> NumpyClassifiers:
+    return NumpyClassifiers(list(model.specs.values()), model.encoder,
+                            {k: v.numpy() for k, v in model.state_dict().items()})
+
+
+def test_numpy_forward_pass_scores_as_torch_does():
+    """Planning ranks with forward.py (no torch import); it must be the network training fitted."""
+    from pdsketch_mech.samplers.learned.model import Batch, MechanismClassifiers
+    torch.manual_seed(0)
+    specs = [ParamSpec("?c", "contact", (("?g", "grasp"), ("?t", "push")), 3),
+             ParamSpec("?p", "placement", (("?g", "grasp"),), 2, outputs=1)]
+    model = MechanismClassifiers(specs, TINY)
+    with torch.no_grad():  # non-trivial statistics and priors, so that every term is exercised
+        for name, tensor in model.state_dict().items():
+            if name.endswith((".mean", ".std", "prior_shift")):
+                tensor.copy_(torch.rand_like(tensor) + 0.5)
+    numpy_model = as_numpy(model)
+    rng = np.random.default_rng(0)
+    clouds = rng.normal(size=(3, 64, 3)).astype(np.float32)
+    clouds /= np.linalg.norm(clouds, axis=-1).max()
+    for spec in specs:
+        classifier, mirror = model.classifier(spec.variable), numpy_model.classifier(spec.variable)
+        with torch.no_grad():
+            expected_shapes = classifier.shape_vectors(torch.from_numpy(clouds)).numpy()
+        shapes = np.stack([mirror.shape_vector(c) for c in clouds])
+        np.testing.assert_allclose(shapes, expected_shapes, rtol=1e-4, atol=1e-4)
+        rows, m = 5, spec.objects
+        value = rng.normal(size=(rows, len(VALUE_LAYOUT[spec.kind])))
+        parents = [rng.normal(size=len(VALUE_LAYOUT[k])) for _, k in spec.parents]
+        present = np.array([1.0, 0.0][:len(parents)])
+        parents = [p * flag for p, flag in zip(parents, present)]
+        sizes, poses = rng.uniform(0.02, 0.2, size=(m, 3)), rng.normal(size=(m, 7))
+        poses[:, 3:] /= np.linalg.norm(poses[:, 3:], axis=1, keepdims=True)
+        f32 = lambda a: torch.tensor(np.asarray(a), dtype=torch.float32)  # noqa: E731
+        batch = Batch(f32(value), [f32(p).expand(rows, -1) for p in parents], f32(present).expand(rows, -1),
+                      f32(clouds), torch.arange(m).expand(rows, -1), f32(sizes).expand(rows, -1, -1),
+                      f32(poses).expand(rows, -1, -1))
+        with torch.no_grad():
+            expected = classifier.log_score(batch).numpy()
+        got = mirror.log_score(value, parents, present, sizes, poses, shapes[:m])
+        np.testing.assert_allclose(got, expected, rtol=1e-4, atol=1e-4)
+        assert np.ptp(got) > 1e-3  # the rows differ: the value reaches the score
+
+
 def test_checkpoint_round_trip_and_refusal(com_fragment, tmp_path):
     mechanism = load_domain([com_fragment]).domain.mechanisms[0]
     episodes = synthetic_episodes(4)
@@ -148,6 +195,21 @@ def test_checkpoint_round_trip_and_refusal(com_fragment, tmp_path):
     with pytest.raises(CheckpointError, match=r"com\.samplers\.safetensors was trained for another definition .*/com\.pddl;"):
         load(weights, changed, com_fragment)
     assert load(weights, replace(mechanism, sampler="elsewhere.safetensors"), com_fragment)  # :sampler is not hashed
+    assert set(load_numpy(weights, mechanism, com_fragment)[0].by_variable) == set(model.by_variable)
+
+
+def test_a_checkpoint_missing_a_tensor_is_refused_when_loaded(com_fragment, tmp_path):
+    from safetensors.numpy import load_file, save_file
+    mechanism = load_domain([com_fragment]).domain.mechanisms[0]
+    model, _ = train_mechanism(synthetic_episodes(4), TrainConfig(epochs=1, encoder=TINY))
+    weights = str(tmp_path / "com.samplers.safetensors")
+    save(weights, model, mechanism, {"seed": 0})
+    tensors = load_file(weights)
+    del tensors[next(k for k in tensors if k.endswith("head.2.bias"))]
+    save_file(tensors, weights)
+    for loader in (load, load_numpy):
+        with pytest.raises(CheckpointError, match=r"com\.samplers\.safetensors: cannot load the checkpoint"):
+            loader(weights, mechanism, com_fragment)
 
 
 def test_walk_order_ranks_and_explores_but_keeps_every_proposal():
@@ -192,11 +254,11 @@ def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
 
 
 def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():
-    from pdsketch_mech.samplers.learned.model import MechanismClassifiers, ParamSpec
+    from pdsketch_mech.samplers.learned.model import MechanismClassifiers
     from pdsketch_mech.samplers.learned.ranked import POOL, LearnedMechanism
     specs = [ParamSpec("?g", "grasp", (), 2), ParamSpec("?p", "placement", (), 2, outputs=1),
              ParamSpec("?t", "push", (), 2, outputs=1)]
-    learned = LearnedMechanism(MechanismClassifiers(specs, TINY), {})
+    learned = LearnedMechanism(as_numpy(MechanismClassifiers(specs, TINY)), {})
     assert RankedSampler(Numbers(4), learned, "?g").pool == 0      # schema /2: raw proposals, best first
     assert RankedSampler(Numbers(4), learned, "?p").pool == POOL   # schema /1: a pool of verified values
     assert RankedSampler(Numbers(4), learned, "?t").pool == 0      # a push's distance either way
@@ -312,3 +374,18 @@ def test_the_used_logit_learns_only_from_successful_episodes():
     # a failed episode's values say which contexts fail, not which value to try first
     assert not loss.scored[torch.from_numpy(failed)].any()
     assert loss.scored[torch.from_numpy(~failed & (data.verified > 0.5))].all()
+
+
+def test_planning_with_learned_samplers_does_not_import_torch():
+    """torch costs seconds to import: planning scores with the numpy forward pass."""
+    import subprocess
+    import sys
+    code = ("import sys, glob\n"
+            "from pdsketch_mech.lang.loader import load_domain\n"
+            "from pdsketch_mech.planner.plan_command import learned_samplers\n"
+            "loaded = load_domain(['domains/basis.pddl', *sorted(glob.glob('domains/mechanisms/*.pddl'))])\n"
+            "learned = learned_samplers(loaded, use_learned=True, use_mechanisms=True)\n"
+            "assert len(learned) == 6, sorted(learned)\n"
+            "print('torch' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

@@ -18,7 +18,7 @@ from typing import Dict, List, Sequence, Tuple
 import numpy as np
 
 from ..samplers.learned.encoding import RANKABLE, VALUE_LAYOUT
-from ..samplers.learned.model import ParamSpec, width
+from ..samplers.learned.specs import ParamSpec, width
 from ..samplers.learned.shapes import size_features, unit_cloud
 from ..world.asset_index import resolve_asset
 from .selfplay_store import StoreError, done_episodes, read_episode

@@ -30,7 +30,7 @@ import torch
 from torch import nn
 
 from ..samplers.learned.model import Batch, MechanismClassifiers
-from ..samplers.learned.pointnet import EncoderConfig
+from ..samplers.learned.specs import EncoderConfig
 from .sampler_data import ParamData, param_data, parent_specs, split_episodes
 
 

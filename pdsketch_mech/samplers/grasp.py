@@ -193,8 +193,10 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
     keep = [i for i in range(len(frames)) if in_world[i, 2, 2] <= MAX_UP and world.within_reach(in_world[i])]
     if not keep:
         return []
-    cloud = _surface_cloud(mesh)
-    keep = [i for i in keep if not _inside_gripper((cloud @ np.linalg.inv(frames[i]).T)[:, :3], opening).any()]
+    # The surface in every kept gripper frame at once (a rigid frame's inverse is [R^T, -R^T t]).
+    rotations, origins = frames[keep, :3, :3], frames[keep, :3, 3]
+    local = np.matmul(_surface_cloud(mesh)[None, :, :3] - origins[:, None, :], rotations)
+    keep = [i for i, inside in zip(keep, _inside_gripper(local, opening).any(axis=1)) if not inside]
     # Fingertips first (few rays, and what most often hits the table), then the whole grid.
     for points in (_fingertip_points(opening), _gripper_points(opening)):
         keep = [i for i in keep if _clear_of_supports(world, obj, in_world[i], points, bottom)]

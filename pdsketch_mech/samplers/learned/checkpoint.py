@@ -15,12 +15,17 @@ import hashlib
 import json
 import os
 from dataclasses import replace
-from typing import Any, Dict, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Tuple
+
+import numpy as np
 
 from ...lang.nodes import Mechanism
 from ...lang.writer import write_mechanism
-from .model import MechanismClassifiers, ParamSpec
-from .pointnet import EncoderConfig
+from .forward import NumpyClassifiers
+from .specs import EncoderConfig, ParamSpec
+
+if TYPE_CHECKING:
+    from .model import MechanismClassifiers
 
 SCHEMA = "pdsketch_mech.samplers/2"   # /2: classifiers of proposals (two logits)
 READABLE = ("pdsketch_mech.samplers/1", SCHEMA)  # /1: classifiers of verified values
@@ -41,7 +46,7 @@ def metadata_path(weights: str) -> str:
     return base + ".json"
 
 
-def save(weights: str, model: MechanismClassifiers, mechanism: Mechanism, info: Dict[str, Any]) -> Tuple[str, str]:
+def save(weights: str, model: "MechanismClassifiers", mechanism: Mechanism, info: Dict[str, Any]) -> Tuple[str, str]:
     """Write the weights and the metadata (each atomically); returns both paths."""
     from safetensors.torch import save as to_bytes
 
@@ -56,11 +61,12 @@ def save(weights: str, model: MechanismClassifiers, mechanism: Mechanism, info: 
     return weights, metadata_path(weights)
 
 
-def load(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[MechanismClassifiers, Dict[str, Any]]:
-    """The classifiers of `mechanism` (defined in `fragment`) from `weights`; CheckpointError
-    if the files are missing or unreadable or were trained for another definition."""
+def read(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Dict[str, np.ndarray], Dict[str, Any]]:
+    """The tensors (as numpy arrays) and metadata of `mechanism`'s checkpoint (defined in
+    `fragment`); CheckpointError if the files are missing or unreadable or were trained for
+    another definition. Imports no torch."""
     from safetensors import SafetensorError
-    from safetensors.torch import load_file
+    from safetensors.numpy import load_file
     meta_file = metadata_path(weights)
     for path in (weights, meta_file):
         if not os.path.isfile(path):
@@ -75,12 +81,42 @@ def load(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[MechanismCl
                 f"{weights} was trained for another definition of mechanism '{meta.get('mechanism')}' than the one "
                 f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name}) or plan with "
                 "--no-learned-samplers")
-        specs = [ParamSpec.from_json(s) for s in meta["parameters"]]
-        model = MechanismClassifiers(specs, EncoderConfig.from_json(meta["encoder"]))
-        model.load_state_dict(load_file(weights), strict=True)
-    except (OSError, ValueError, KeyError, TypeError, RuntimeError, SafetensorError) as exc:
+        layout(meta)
+        tensors = load_file(weights)
+    except (OSError, ValueError, KeyError, TypeError, SafetensorError) as exc:
         if isinstance(exc, CheckpointError):
             raise
         raise CheckpointError(f"{weights}: cannot load the checkpoint: {str(exc).splitlines()[0]}") from None
+    return tensors, meta
+
+
+def layout(meta: Dict[str, Any]) -> Tuple[List[ParamSpec], EncoderConfig]:
+    """The classifiers' specs and encoder a checkpoint's metadata describes."""
+    return [ParamSpec.from_json(s) for s in meta["parameters"]], EncoderConfig.from_json(meta["encoder"])
+
+
+def load(weights: str, mechanism: Mechanism, fragment: str) -> Tuple["MechanismClassifiers", Dict[str, Any]]:
+    """The torch classifiers of `mechanism` from `weights` (see `read`)."""
+    import torch
+
+    from .model import MechanismClassifiers
+    tensors, meta = read(weights, mechanism, fragment)
+    model = MechanismClassifiers(*layout(meta))
+    try:
+        model.load_state_dict({k: torch.from_numpy(v) for k, v in tensors.items()}, strict=True)
+    except RuntimeError as exc:
+        raise CheckpointError(f"{weights}: cannot load the checkpoint: {str(exc).splitlines()[0]}") from None
     model.eval()
     return model, meta
+
+
+def load_numpy(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[NumpyClassifiers, Dict[str, Any]]:
+    """The classifiers of `mechanism` from `weights` for numpy's forward pass (planning)."""
+    tensors, meta = read(weights, mechanism, fragment)
+    classifiers = NumpyClassifiers(*layout(meta), tensors)
+    try:
+        classifiers.check()
+    except (KeyError, ValueError) as exc:
+        raise CheckpointError(f"{weights}: cannot load the checkpoint: its tensors do not fit the classifiers "
+                              f"its metadata describes ({type(exc).__name__}: {exc})") from None
+    return classifiers, meta

@@ -21,49 +21,13 @@ a plan uses. Checkpoints of values only (outputs 1) have the second logit alone.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence
 
 import torch
 from torch import nn
 
-from .encoding import VALUE_LAYOUT
-from .pointnet import EncoderConfig, PointNetEncoder
-
-HIDDEN = 64
-SHAPE_PROJECTION = 32
-POSE = 7
-SIZE = 3
-
-# Columns of a value that are world positions, per kind (start, stop): expressed in each
-# object's frame as extra features. A grasp is already in its object's frame.
-ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
-    "grasp": (), "placement": ((0, 3),), "contact": ((0, 3), (7, 10)), "trajectory": ((7, 10),), "push": (),
-}
-
-
-@dataclass(frozen=True)
-class ParamSpec:
-    """One classifier's inputs: the parameter, its kind, its parents (variable, kind) in the
-    mechanism's order, and how many mechanism objects form the context."""
-
-    variable: str
-    kind: str
-    parents: Tuple[Tuple[str, str], ...]
-    objects: int
-    outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
-
-    def to_json(self) -> dict:
-        return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
-                "objects": self.objects, "outputs": self.outputs}
-
-    @classmethod
-    def from_json(cls, data: dict) -> "ParamSpec":
-        return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]),
-                   int(data.get("outputs", 1)))
-
-
-def width(kind: str) -> int:
-    return len(VALUE_LAYOUT[kind])
+from .pointnet import PointNetEncoder
+from .specs import ANCHORS, HIDDEN, POSE, SHAPE_PROJECTION, SIZE, EncoderConfig, ParamSpec, width
 
 
 @dataclass

@@ -9,11 +9,12 @@ hundred points these loops cost milliseconds.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
 from typing import Sequence, Tuple
 
 import torch
 from torch import nn
+
+from .specs import EncoderConfig
 
 
 def farthest_points(xyz: torch.Tensor, count: int) -> torch.Tensor:
@@ -72,25 +73,6 @@ class SetAbstraction(nn.Module):
         if features is not None:
             local = torch.cat([local, gather(features, group)], dim=-1)
         return centres, self.mlp(local).max(dim=2).values         # (B, M, C)
-
-
-@dataclass(frozen=True)
-class EncoderConfig:
-    """The encoder's shape; stored in a checkpoint's metadata."""
-
-    centres: Tuple[int, int] = (64, 16)
-    radii: Tuple[float, float] = (0.25, 0.5)
-    neighbours: int = 16
-    widths1: Tuple[int, ...] = (32, 32, 64)
-    widths2: Tuple[int, ...] = (64, 64, 128)
-    out: int = 128
-
-    def to_json(self) -> dict:
-        return asdict(self)
-
-    @classmethod
-    def from_json(cls, data: dict) -> "EncoderConfig":
-        return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in data.items()})
 
 
 class PointNetEncoder(nn.Module):

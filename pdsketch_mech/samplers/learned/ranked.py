@@ -16,12 +16,12 @@ from itertools import islice
 from typing import TYPE_CHECKING, Any, Dict, Iterable, Iterator, List, Optional
 
 import numpy as np
-import torch
 
 from ..interface import Sampler, SampleRequest
-from .checkpoint import load
+from .checkpoint import load_numpy
 from .encoding import encode_as, encode_proposal, pose_array
-from .model import Batch, MechanismClassifiers, ParamSpec, width
+from .forward import NumpyClassifiers
+from .specs import width
 from .shapes import size_features, unit_cloud
 
 if TYPE_CHECKING:
@@ -34,34 +34,15 @@ EXPLORE = 0.2     # chance that the next proposal verified is a random one rathe
 
 
 class LearnedMechanism:
-    """One mechanism's classifiers, scoring proposals in a step's context."""
+    """One mechanism's classifiers, scoring proposals in a step's context (numpy: forward.py)."""
 
-    def __init__(self, model: MechanismClassifiers, meta: Dict[str, Any]):
+    def __init__(self, model: NumpyClassifiers, meta: Dict[str, Any]):
         self.model, self.meta = model, meta
         self.score_seconds: List[float] = []   # each batch's forward pass (stats)
-        self._shapes: Dict[tuple, torch.Tensor] = {}  # (variable, urdf) -> the shape's embedding
+        self._shapes: Dict[tuple, np.ndarray] = {}  # (variable, urdf) -> the shape's embedding
 
     def __contains__(self, variable: object) -> bool:
         return variable in self.model
-
-    def context(self, world: "World", request: SampleRequest, spec: ParamSpec, rows: int) -> Batch:
-        """The step's context for `rows` proposals (values filled in by the caller). No clouds:
-        the shapes' embeddings are cached (`_shape_vectors`) and passed to the classifier."""
-        objects = request.step.mechanism_args
-        bodies = [world.bodies[o] for o in objects]
-        sizes = torch.tensor([size_features(b.urdf, b.scale) for b in bodies], dtype=torch.float32)
-        poses = torch.tensor([pose_array(world.pose(o)) for o in objects], dtype=torch.float32)
-        by_variable = {request.step.role(k): v for k, v in request.parents.items()}
-        parents, present = [], []
-        for variable, kind in spec.parents:
-            value = by_variable.get(variable)
-            numbers = encode_as(world, value, kind) if value is not None else np.zeros(width(kind))
-            parents.append(torch.tensor(np.nan_to_num(numbers), dtype=torch.float32).expand(rows, -1))
-            present.append(float(value is not None))
-        return Batch(torch.zeros(rows, width(spec.kind)), parents,
-                     torch.tensor(present, dtype=torch.float32).expand(rows, -1), torch.zeros(0, 0, 3),
-                     torch.arange(len(objects)).expand(rows, -1), sizes.expand(rows, -1, -1),
-                     poses.expand(rows, -1, -1))
 
     def ranks_proposals(self, variable: str) -> bool:
         """Whether the classifier was trained on proposals (else on verified values only)."""
@@ -69,34 +50,40 @@ class LearnedMechanism:
 
     def score(self, world: "World", request: SampleRequest, variable: str, proposals: List[object]) -> np.ndarray:
         """The classifier's score for each proposal, higher first (`ParamClassifier.log_score`;
-        the median of the others where a proposal has no encoding)."""
+        the median of the others where a proposal has no encoding). The context is the step's:
+        the mechanism's objects where they are now and the values its earlier steps drew."""
         started = time.perf_counter()
         classifier = self.model.classifier(variable)
         numbers = [encode_proposal(world, p) for p in proposals]
         known = [i for i, v in enumerate(numbers) if v is not None]
         out = np.zeros(len(proposals))
         if known:
-            batch = self.context(world, request, classifier.spec, len(known))
-            batch.value = torch.tensor(np.nan_to_num(np.stack([numbers[i] for i in known])), dtype=torch.float32)
-            with torch.no_grad():
-                out[known] = classifier.log_score(batch, self._shape_vectors(world, request, variable)).numpy()
+            objects = request.step.mechanism_args
+            bodies = [world.bodies[o] for o in objects]
+            by_variable = {request.step.role(k): v for k, v in request.parents.items()}
+            parents = [by_variable.get(variable) for variable, _ in classifier.spec.parents]
+            out[known] = classifier.log_score(
+                np.nan_to_num(np.stack([numbers[i] for i in known])),
+                [np.nan_to_num(encode_as(world, value, kind)) if value is not None else np.zeros(width(kind))
+                 for value, (_, kind) in zip(parents, classifier.spec.parents)],
+                np.array([float(value is not None) for value in parents]),
+                np.array([size_features(b.urdf, b.scale) for b in bodies]),
+                np.array([pose_array(world.pose(o)) for o in objects]),
+                self._shape_vectors(world, request, variable))
             out[[i for i in range(len(proposals)) if numbers[i] is None]] = np.median(out[known])
         self.score_seconds.append(time.perf_counter() - started)
         return out
 
-
-    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> torch.Tensor:
+    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> np.ndarray:
         """The mechanism objects' shape embeddings, computed once per shape."""
         rows = []
         for name in request.step.mechanism_args:
             urdf = world.bodies[name].urdf
             key = (variable, urdf)
             if key not in self._shapes:
-                with torch.no_grad():
-                    cloud = torch.from_numpy(unit_cloud(urdf)).unsqueeze(0)
-                    self._shapes[key] = self.model.classifier(variable).shape_vectors(cloud)[0]
+                self._shapes[key] = self.model.classifier(variable).shape_vector(unit_cloud(urdf))
             rows.append(self._shapes[key])
-        return torch.stack(rows)
+        return np.stack(rows)
 
 
 def walk_order(scores: np.ndarray, rng: np.random.Generator, explore: float = EXPLORE) -> List[int]:
@@ -195,10 +182,9 @@ def checkpoint_path(mechanism: "Mechanism") -> str:
 def load_learned(mechanisms: Iterable["Mechanism"]) -> Dict[str, LearnedMechanism]:
     """The learned samplers of the mechanisms that name a checkpoint (CheckpointError if one
     cannot be used: the planner must not fall back silently)."""
-    torch.set_num_threads(1)  # batches of 64: threads cost more than they bring, and workers run side by side
     out = {}
     for mechanism in mechanisms:
         if mechanism.sampler:
-            model, meta = load(checkpoint_path(mechanism), mechanism, mechanism.loc.file)
+            model, meta = load_numpy(checkpoint_path(mechanism), mechanism, mechanism.loc.file)
             out[mechanism.name] = LearnedMechanism(model, meta)
     return out

@@ -1,0 +1,67 @@
+"""What a checkpoint's classifiers are, without torch: each parameter's inputs (ParamSpec),
+the shape encoder's layout (EncoderConfig) and the sizes shared by both forward passes.
+
+Training builds torch modules from these (model.py, pointnet.py); planning runs the same
+network in numpy (forward.py) and never imports torch.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Dict, Tuple
+
+from .encoding import VALUE_LAYOUT
+
+HIDDEN = 64            # width of every MLP and of the head's input parts
+SHAPE_PROJECTION = 32  # a shape's embedding as an object encoder reads it
+POSE = 7               # translation + quaternion (x, y, z, w)
+SIZE = 3               # half-extents
+
+# Columns of a value that are world positions, per kind (start, stop): expressed in each
+# object's frame as extra features. A grasp is already in its object's frame.
+ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
+    "grasp": (), "placement": ((0, 3),), "contact": ((0, 3), (7, 10)), "trajectory": ((7, 10),), "push": (),
+}
+
+
+def width(kind: str) -> int:
+    return len(VALUE_LAYOUT[kind])
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One classifier's inputs: the parameter, its kind, its parents (variable, kind) in the
+    mechanism's order, and how many mechanism objects form the context."""
+
+    variable: str
+    kind: str
+    parents: Tuple[Tuple[str, str], ...]
+    objects: int
+    outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
+
+    def to_json(self) -> dict:
+        return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
+                "objects": self.objects, "outputs": self.outputs}
+
+    @classmethod
+    def from_json(cls, data: dict) -> "ParamSpec":
+        return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]),
+                   int(data.get("outputs", 1)))
+
+
+@dataclass(frozen=True)
+class EncoderConfig:
+    """The PointNet++ encoder's shape; stored in a checkpoint's metadata."""
+
+    centres: Tuple[int, int] = (64, 16)
+    radii: Tuple[float, float] = (0.25, 0.5)
+    neighbours: int = 16
+    widths1: Tuple[int, ...] = (32, 32, 64)
+    widths2: Tuple[int, ...] = (64, 64, 128)
+    out: int = 128
+
+    def to_json(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_json(cls, data: dict) -> "EncoderConfig":
+        return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in data.items()})
