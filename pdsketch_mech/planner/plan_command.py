@@ -75,7 +75,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
 
 
 def learned_samplers(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bool) -> Dict[str, object]:
-    """The mechanisms' learned samplers (torch is imported only when one names a checkpoint);
+    """The mechanisms' learned samplers (scored in numpy: planning never imports torch);
     none with `--no-learned-samplers` or `--basis-only`."""
     if not use_learned or not use_mechanisms or not any(m.sampler for m in loaded.domain.mechanisms):
         return {}
