@@ -173,9 +173,9 @@ def _clear_of_supports(world: "World", obj: str, frame: np.ndarray, points: np.n
 
 @lru_cache(maxsize=64)
 def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
-    """Points covering the object's surface (object frame, homogeneous), drawn once."""
+    """Points (N, 3) covering the object's surface (object frame), drawn once."""
     points, _ = sample_surface(mesh, CLOUD_POINTS, np.random.default_rng(0))
-    return np.hstack([points, np.ones((len(points), 1))])
+    return np.asarray(points)
 
 
 def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np.ndarray, p1: np.ndarray,
@@ -195,7 +195,7 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
         return []
     # The surface in every kept gripper frame at once (a rigid frame's inverse is [R^T, -R^T t]).
     rotations, origins = frames[keep, :3, :3], frames[keep, :3, 3]
-    local = np.matmul(_surface_cloud(mesh)[None, :, :3] - origins[:, None, :], rotations)
+    local = np.matmul(_surface_cloud(mesh)[None] - origins[:, None, :], rotations)
     keep = [i for i, inside in zip(keep, _inside_gripper(local, opening).any(axis=1)) if not inside]
     # Fingertips first (few rays, and what most often hits the table), then the whole grid.
     for points in (_fingertip_points(opening), _gripper_points(opening)):

@@ -12,7 +12,7 @@ from typing import Dict, List, Mapping, Sequence
 
 import numpy as np
 
-from .specs import ANCHORS, EncoderConfig, ParamSpec, width
+from .specs import ANCHORS, POSE, SIZE, EncoderConfig, ParamSpec, width
 
 Tensors = Mapping[str, np.ndarray]
 LAYER_NORM_EPS = 1e-5  # torch.nn.LayerNorm's default
@@ -110,7 +110,7 @@ class NumpyClassifier:
         layers, rows = self.layers, len(value)
         parts: List[np.ndarray] = []
         for m in range(self.spec.objects):
-            inputs = [np.broadcast_to(poses[m], (rows, 7)), np.broadcast_to(sizes[m], (rows, 3))]
+            inputs = [np.broadcast_to(poses[m], (rows, POSE)), np.broadcast_to(sizes[m], (rows, SIZE))]
             for start, stop in ANCHORS[self.spec.kind]:
                 inputs.append(rotate_inverse(poses[m, 3:], value[:, start:stop] - poses[m, :3]))
             features = layers.standardise(f"object_norm.{m}", np.concatenate(inputs, -1))
