@@ -38,6 +38,7 @@ INSIDE = 1e-4           # ray origins start this far inside the surface
 BATCH = 32              # surface points per ray-casting batch
 ANGLES = 12             # approach angles about the closing axis examined per pair
 POINTS_PER_ATTEMPT = 6  # surface points examined per allowed proposal, however few pass
+RAYS_PER_BATCH = 4096   # below PyBullet's cap on one rayTestBatch
 # IK restarts for a candidate: a hard pose is dropped, drawing another candidate is cheaper
 # (10 restarts keep ~92 % of the poses 30 find, in about half the time).
 IK_RESTARTS = 10
@@ -66,17 +67,22 @@ def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
         yield (p1[i], n1[i], p2, n2) if ok else None
 
 
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """u x v for two 3-vectors (np.cross's generality costs ~80 us a call; this is its hot path)."""
+    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]])
+
+
 def gripper_frames(p1: np.ndarray, p2: np.ndarray, angles: np.ndarray) -> np.ndarray:
     """(n, 4, 4) gripper frames in the object frame: origin at the midpoint, y along
     p2 - p1, z (approach) at each of `angles` about y."""
     y = (p2 - p1) / np.linalg.norm(p2 - p1)
     helper = np.eye(3)[int(np.argmin(np.abs(y)))]  # the axis least parallel to y
-    a = np.cross(y, helper)
+    a = _cross(y, helper)
     a /= np.linalg.norm(a)
-    b = np.cross(y, a)
+    b = _cross(y, a)
     cos, sin = np.cos(angles)[:, None], np.sin(angles)[:, None]
     frames = np.tile(np.eye(4), (len(angles), 1, 1))
-    frames[:, :3, 0] = cos * np.cross(y, a) + sin * np.cross(y, b)   # x = y cross z
+    frames[:, :3, 0] = cos * _cross(y, a) + sin * _cross(y, b)   # x = y cross z
     frames[:, :3, 1] = y
     frames[:, :3, 2] = cos * a + sin * b
     frames[:, :3, 3] = (p1 + p2) / 2
@@ -151,6 +157,13 @@ def _inside_gripper(points: np.ndarray, opening: float) -> np.ndarray:
     return hand | finger
 
 
+def _gripper_radius(opening: float) -> float:
+    """The farthest any point of the hand or fingers lies from the gripper frame's origin."""
+    hand = np.linalg.norm([max(abs(lo), abs(hi)) for lo, hi in HAND_BOX])
+    finger = np.linalg.norm([FINGER_HALF_WIDTH, opening / 2 + FINGER_THICKNESS, max(map(abs, FINGER_SPAN))])
+    return float(max(hand, finger))
+
+
 def _fingertip_points(opening: float) -> np.ndarray:
     """The corners of both fingertips (gripper frame, homogeneous)."""
     inner = opening / 2
@@ -158,17 +171,24 @@ def _fingertip_points(opening: float) -> np.ndarray:
                      for side in (-1, 1) for y in (inner, inner + FINGER_THICKNESS)])
 
 
-def _clear_of_supports(world: "World", obj: str, frame: np.ndarray, points: np.ndarray, bottom: float) -> bool:
-    """No gripper point (`points` in the gripper `frame`, world) that is low down lies less
-    than SUPPORT_CLEARANCE above another body: one batched ray cast down past each."""
-    placed = (frame @ points.T)[:3].T
-    low = placed[placed[:, 2] < bottom + SUPPORT_CLEARANCE]
-    if not len(low):
-        return True
-    starts = [(x, y, bottom + 0.01) for x, y, _ in low]
-    ends = [(x, y, z - SUPPORT_CLEARANCE) for x, y, z in low]
+def _clear_of_supports(world: "World", obj: str, frames: np.ndarray, points: np.ndarray,
+                       bottom: float) -> np.ndarray:
+    """For each gripper frame of `frames` (n, 4, 4, world), whether no gripper point (`points`,
+    gripper frame) that is low down lies less than SUPPORT_CLEARANCE above another body: one
+    batched ray cast down past every low point of every frame."""
+    placed = np.einsum("nij,pj->npi", frames[:, :3], points)   # (n, points, 3)
+    frame_of, point_of = np.nonzero(placed[..., 2] < bottom + SUPPORT_CLEARANCE)
+    clear = np.ones(len(frames), dtype=bool)
+    low = placed[frame_of, point_of]
     ignore = {world.bodies[obj].id, world.robot, -1}
-    return all(hit[0] in ignore for hit in p.rayTestBatch(starts, ends, physicsClientId=world.client))
+    for start in range(0, len(low), RAYS_PER_BATCH):
+        chunk = low[start:start + RAYS_PER_BATCH]
+        starts = np.column_stack([chunk[:, :2], np.full(len(chunk), bottom + 0.01)])
+        ends = chunk - (0.0, 0.0, SUPPORT_CLEARANCE)
+        hits = p.rayTestBatch(starts.tolist(), ends.tolist(), physicsClientId=world.client)
+        blocked = [k for k, hit in enumerate(hits) if hit[0] not in ignore]
+        clear[frame_of[start:start + RAYS_PER_BATCH][blocked]] = False
+    return clear
 
 
 @lru_cache(maxsize=64)
@@ -190,17 +210,22 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
     opening = grasp_opening(float(np.linalg.norm(p2 - p1)))
     frames = gripper_frames(p1, p2, rng.uniform(-np.pi, np.pi) + np.arange(ANGLES) * 2 * np.pi / ANGLES)
     in_world = placed @ frames
-    keep = [i for i in range(len(frames)) if in_world[i, 2, 2] <= MAX_UP and world.within_reach(in_world[i])]
-    if not keep:
+    keep = np.flatnonzero((in_world[:, 2, 2] <= MAX_UP) & world.within_reach_all(in_world))
+    if not len(keep):
         return []
-    # The surface in every kept gripper frame at once (a rigid frame's inverse is [R^T, -R^T t]).
-    rotations, origins = frames[keep, :3, :3], frames[keep, :3, 3]
-    local = np.matmul(_surface_cloud(mesh)[None] - origins[:, None, :], rotations)
-    keep = [i for i, inside in zip(keep, _inside_gripper(local, opening).any(axis=1)) if not inside]
+    # Only surface points within the gripper's reach of the frames' common origin can be
+    # inside it; those, in every kept frame at once (a rigid frame's inverse is [R^T, -R^T t]).
+    cloud = _surface_cloud(mesh)
+    origin = frames[0, :3, 3]
+    near = cloud[np.sum((cloud - origin) ** 2, axis=1) < _gripper_radius(opening) ** 2]
+    if len(near):
+        local = np.matmul(near[None] - origin, frames[keep, :3, :3])
+        keep = keep[~_inside_gripper(local, opening).any(axis=1)]
     # Fingertips first (few rays, and what most often hits the table), then the whole grid.
     for points in (_fingertip_points(opening), _gripper_points(opening)):
-        keep = [i for i in keep if _clear_of_supports(world, obj, in_world[i], points, bottom)]
-    return [frames[i] for i in keep]
+        if len(keep):
+            keep = keep[_clear_of_supports(world, obj, in_world[keep], points, bottom)]
+    return list(frames[keep])
 
 
 def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_points: int) -> Iterator[Grasp]:

@@ -194,7 +194,11 @@ class World:
         """A cheap necessary condition for IK of a gripper-frame pose (4x4 matrix): the
         flange, WRIST behind it, lies within REACH of the shoulder. Spares the solver's
         ~0.1 s of failing restarts for poses far out of reach."""
-        return float(np.linalg.norm(tcp[:3, 3] - WRIST * tcp[:3, 2] - self.shoulder)) < REACH
+        return bool(self.within_reach_all(tcp[None])[0])
+
+    def within_reach_all(self, tcps: np.ndarray) -> np.ndarray:
+        """`within_reach` for each of `tcps` (n, 4, 4) at once: (n,) booleans."""
+        return np.linalg.norm(tcps[:, :3, 3] - WRIST * tcps[:, :3, 2] - self.shoulder, axis=1) < REACH
 
     def held_tcp_in_object(self) -> Optional[Pose]:
         """The current grasp as the gripper frame's pose in the held object's frame."""
