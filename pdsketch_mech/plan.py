@@ -21,7 +21,6 @@ from .cli import (
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, load_domain, load_problem
 from .lang.nodes import Problem
-from .symbolic.skeletons import iter_skeletons
 from .symbolic.solve import SEARCHES, ClassicalResult, solve
 from .symbolic.validate import validate_plan
 
@@ -109,11 +108,11 @@ def _summary(result: ClassicalResult) -> str:
 
 
 def _print_skeletons(loaded: LoadedDomain, problem: Problem, wanted: int, deadline: float) -> int:
-    from .planner.bilevel import prepare_task  # the task the bilevel planner searches
+    from .planner.bilevel import prepare_task, skeleton_order  # as the bilevel planner searches
 
     task, _ = prepare_task(loaded, problem)
     found: List[str] = []
-    for plan in iter_skeletons(task, deadline=deadline):
+    for plan in skeleton_order(task, deadline):
         found.append(" ".join(task.operators[o].label for o in plan))
         print(f"{len(found)}: {found[-1]}")
         if len(found) >= wanted:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import time
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Dict, List, Mapping, Optional
+from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional
 
 import numpy as np
 
@@ -25,6 +25,7 @@ from ..world.world import World
 from .bindings import StepSampler
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
+from .pristine import PristineFailures, fixed_objects, pristine_keys, touch_masks
 from .refine import Refinement, Step, skeleton_steps
 from .schedule import SLICE, next_turn
 from .serialize import plan_entries
@@ -62,6 +63,12 @@ def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = 
     return task, placeholders
 
 
+def skeleton_order(task: StripsTask, deadline: Optional[float] = None) -> Iterator[List[int]]:
+    """Skeletons in the order the planner takes them from the symbolic search (before it
+    defers those that repeat a dead pristine step: pristine.py)."""
+    return iter_skeletons(task, deadline=deadline, touches=touch_masks(task))
+
+
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
                  use_mechanisms: bool = True, max_skeletons: int = 200, validate: bool = True,
                  learned: Optional[Mapping[str, "LearnedMechanism"]] = None) -> PlanResult:
@@ -95,22 +102,42 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     def in_fresh_world(steps: List[Step], values: List[Dict[str, object]]) -> Optional[str]:
         result = execute_plan(task, problem, plan_entries(steps, values))
         return None if result.goal_reached else f"in a fresh world, {result.message}"
-    skeletons = iter_skeletons(task, deadline=deadline)
+    memo, fixed = PristineFailures(start=start), fixed_objects(task)
+    skeletons = skeleton_order(task, deadline)
+    deferred: List[List[int]] = []   # skeletons that repeat a dead pristine step, in order
     active: Dict[int, Refinement] = {}
+    plans: Dict[int, List[int]] = {}
     created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
     stats["skeleton_log"] = created
+    stats["deferred"] = 0
     failures: Counter = Counter()
     more = True
+
+    def next_plan() -> Optional[List[int]]:
+        """The next skeleton that repeats no dead pristine step; a deferred one once the
+        symbolic search has no more (or the cap is reached); None when none is left."""
+        nonlocal more
+        while more and stats["skeletons"] < max_skeletons and time.perf_counter() < deadline:
+            plan = next(skeletons, None)
+            if plan is None:
+                more = False
+            elif memo.blocks(pristine_keys(skeleton_steps(task, plan), fixed)):
+                deferred.append(plan)
+                stats["deferred"] += 1
+            else:
+                return plan
+        return deferred.pop(0) if deferred else None
+
     try:
         while time.perf_counter() < deadline:
-            can_create = more and stats["skeletons"] < max_skeletons
+            can_create = (more and stats["skeletons"] < max_skeletons) or bool(deferred)
             turn = next_turn(((r.rank, r.effort) for r in active.values()),
                              stats["skeletons"] + 1 if can_create else None)
             if turn is None:
                 break
             if turn not in active:
                 t0 = time.perf_counter()
-                plan = next(skeletons, None)
+                plan = next_plan()
                 stats["symbolic_s"] += time.perf_counter() - t0
                 if plan is None:
                     more = False
@@ -120,8 +147,11 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                                 "skeleton": " ".join(task.operators[o].label for o in plan)})
                 # Each skeleton draws from its own generator, seeded in creation order.
                 skeleton_rng = np.random.default_rng(rng.integers(1 << 63))
-                active[turn] = Refinement(skeleton_steps(task, plan), initial, world, task, sampler, skeleton_rng,
-                                          in_fresh_world if validate else None, rank=turn)
+                steps = skeleton_steps(task, plan)
+                active[turn] = Refinement(steps, initial, world, task, sampler, skeleton_rng,
+                                          in_fresh_world if validate else None, rank=turn,
+                                          pristine=pristine_keys(steps, fixed), memo=memo)
+                plans[turn] = plan
             refinement = active[turn]
             t0 = time.perf_counter()
             values = refinement.run(deadline, SLICE)
@@ -131,16 +161,24 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 for other in active.values():
                     failures += _retire(other, stats)
                 stats["sim_steps"] = world.sim_steps - sim_start
+                stats["dead_steps"] = memo.labels()
                 return _result("solved", refinement, values, start, stats, failures + refinement.failures)
             if refinement.exhausted:
                 del active[turn]
                 stats["pruned"] += 1
                 failures += _retire(refinement, stats)
+            if refinement.newly_dead:
+                refinement.newly_dead = False
+                for rank in [r for r, other in active.items() if memo.blocks(other.pristine)]:
+                    failures += _retire(active.pop(rank), stats)
+                    deferred.append(plans[rank])
+                    stats["deferred"] += 1
     finally:
         world.restore(initial)
     for refinement in active.values():
         failures += _retire(refinement, stats)
     stats["sim_steps"] = world.sim_steps - sim_start
+    stats["dead_steps"] = memo.labels()
     elapsed = time.perf_counter() - start
     if time.perf_counter() >= deadline:
         reason = f"timed out after {elapsed:.1f} s"
@@ -152,6 +190,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
 
 
 def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
+    entry = stats["skeleton_log"][refinement.rank - 1]
+    entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
     stats["executions"] += refinement.executions
     stats["refined"] += refinement.executions > 0
     stats["rejected"] += refinement.rejected

@@ -10,7 +10,7 @@ import itertools
 import time
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -20,6 +20,9 @@ from ..world.snapshot import Snapshot
 from ..world.world import World
 from .bindings import StepSampler
 from .execute import contact_mask, execute_step, observed_state
+
+if TYPE_CHECKING:
+    from .pristine import PristineFailures, StepKey
 
 TRIES_PER_VISIT = 3  # parameter samples tried at a step before backtracking to the one before
 
@@ -61,13 +64,19 @@ class Refinement:
     effort: int = 0               # work units spent: sampler visits and simulated steps
     rejected: int = 0             # refinements the fresh-world re-execution refused
     exhausted: bool = False
+    # Steps on untouched objects (pristine.py): keys per step, and the planner's shared record.
+    pristine: Sequence[Optional["StepKey"]] = ()
+    memo: Optional["PristineFailures"] = None
+    newly_dead: bool = False      # a step of this skeleton was found dead in the last run
 
     def __post_init__(self) -> None:
         n = len(self.steps)
         self.snapshots: List[Optional[Snapshot]] = [self.start] + [None] * n
         self.generators: List[Optional[Iterator[Dict[str, object]]]] = [None] * n
+        self.visit_values = [0] * n   # values the current visit of each step has drawn
         self.values: List[Optional[Dict[str, object]]] = [None] * n
         self.depth = 0
+        self.deepest = 0              # most steps simulated in a row so far (statistics)
         self.root_yields = 0
         self.observable = contact_mask(self.task)
 
@@ -92,10 +101,13 @@ class Refinement:
                 parents = {k: v for values in self.values[i - step.index:i] for k, v in (values or {}).items()}
                 self.generators[i] = itertools.islice(
                     self.sampler.samples(world, step.context(), self.rng, parents), TRIES_PER_VISIT)
+                self.visit_values[i] = 0
             values = next(self.generators[i], None)
             if values is None:  # this step is out of samples: revise the step before it
                 self.generators[i] = None
                 self.failures[f"{step.name}: no feasible parameters"] += 1
+                if self.visit_values[i] == 0 and self.memo is not None and self.pristine:
+                    self.newly_dead |= self.memo.ran_dry(self.pristine[i])
                 if i > 0:
                     self.depth -= 1
                     continue
@@ -106,12 +118,15 @@ class Refinement:
                 return None
             if i == 0:
                 self.root_yields += 1
+            self.visit_values[i] += 1
             outcome = execute_step(world, self.snapshots[i], step.name, step.args, values)
             self.executions += 1
             self.sampler.note_simulated(values)
             if not outcome.ok:
                 self.failures[f"{step.name}: {outcome.reason}"] += 1
                 continue
+            if self.memo is not None and self.pristine:
+                self.memo.found(self.pristine[i])
             observed = observed_state(self.task, world)
             if (observed ^ step.expected) & self.observable:
                 self.failures[f"{step.name}: simulated contacts differ from the skeleton"] += 1
@@ -123,6 +138,7 @@ class Refinement:
             self.snapshots[i + 1] = world.snapshot()
             self.generators[i + 1:] = [None] * (len(self.steps) - i - 1)
             self.depth += 1
+            self.deepest = max(self.deepest, self.depth)
             if self.depth == len(self.steps):
                 error = self.validate(self.steps, list(self.values)) if self.validate else None
                 if error is None:

@@ -1,0 +1,97 @@
+"""Failures on untouched objects, learned once and shared between skeletons.
+
+Symbolically, a box beyond the arm's reach is like any other box: every skeleton that grasps
+it where it lies, or pushes it, or sets something on it, looks as good as the one that first
+pulls it closer with a hook, and the FF-guided search yields thousands of them first (the
+Hook-then-Place-on-Slope task: the composition that works was beyond rank 30 000). But a
+step whose objects nothing earlier in its skeleton has touched (a *pristine* step) meets
+those objects as the initial scene has them, whatever skeleton it is in. If such a step's
+samplers keep running dry there (DEAD_AFTER visits without one feasible value, none ever
+feasible), every skeleton that repeats it is deferred: kept aside, and refined only once the
+others run out, so the planner stays complete. Other objects may have moved (an obstacle
+cleared), which is why this defers rather than prunes.
+"""
+from __future__ import annotations
+
+import time
+from collections import Counter
+from typing import Dict, List, Optional, Sequence, Set, Tuple
+
+from ..symbolic.task import StripsTask
+from .refine import Step
+
+DEAD_AFTER = 3      # dry visits of a pristine step, with no feasible value ever, before it is dead
+
+StepKey = Tuple[str, Tuple[str, ...]]
+
+
+def _objects(args: Sequence[str]) -> Tuple[str, ...]:
+    return tuple(a for a in args if not a.startswith("#"))  # '#...': stream placeholders
+
+
+def fixed_objects(task: StripsTask) -> Set[str]:
+    """Objects the initial state calls (fixed X): never moved, so never 'touched'."""
+    held = [fact for i, fact in enumerate(task.facts) if task.init >> i & 1] + list(task.static_facts)
+    return {fact[1] for fact in held if fact[0] == "fixed"}
+
+
+def touch_masks(task: StripsTask) -> List[int]:
+    """Per operator, a bitmask of the movable objects it handles (for iter_skeletons)."""
+    fixed = fixed_objects(task)
+    index: dict = {}
+    masks = []
+    for op in task.operators:
+        mask = 0
+        for name in _objects(op.args):
+            if name not in fixed:
+                mask |= 1 << index.setdefault(name, len(index))
+        masks.append(mask)
+    return masks
+
+
+def pristine_keys(steps: Sequence[Step], fixed: Set[str]) -> List[Optional[StepKey]]:
+    """For each step, (name, objects) if no earlier step touched any of its movable objects,
+    else None."""
+    touched: Set[str] = set()
+    keys: List[Optional[StepKey]] = []
+    for step in steps:
+        objects = _objects(step.args)
+        movable = {o for o in objects if o not in fixed}
+        keys.append((step.name, objects) if not movable & touched else None)
+        touched |= movable
+    return keys
+
+
+class PristineFailures:
+    """Dry visits and feasible values of pristine steps, across all of a plan's skeletons."""
+
+    def __init__(self, dead_after: int = DEAD_AFTER, start: Optional[float] = None):
+        self.dead_after = dead_after
+        self.start = time.perf_counter() if start is None else start
+        self.dry: Counter = Counter()
+        self.feasible: Set[StepKey] = set()
+        self.dead: Dict[StepKey, float] = {}   # -> seconds from the start when it was found dead
+
+    def ran_dry(self, key: Optional[StepKey]) -> bool:
+        """Note a visit of `key` that found no feasible value; True if that made it dead."""
+        if key is None or key in self.feasible or key in self.dead:
+            return False
+        self.dry[key] += 1
+        if self.dry[key] >= self.dead_after:
+            self.dead[key] = round(time.perf_counter() - self.start, 3)
+            return True
+        return False
+
+    def found(self, key: Optional[StepKey]) -> None:
+        """Note a feasible value of `key` (it simulated without error): never dead then."""
+        if key is not None:
+            self.feasible.add(key)
+            self.dead.pop(key, None)
+
+    def blocks(self, keys: Sequence[Optional[StepKey]]) -> bool:
+        """Whether a skeleton with these step keys repeats a dead pristine step."""
+        return any(k in self.dead for k in keys if k is not None)
+
+    def labels(self) -> Dict[str, float]:
+        """Dead steps, as '(name objects...)', and when each was found dead (s)."""
+        return {f"({name} {' '.join(objects)})": t for (name, objects), t in self.dead.items()}
