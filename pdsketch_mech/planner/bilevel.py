@@ -9,6 +9,7 @@ down) is reached within a bounded amount of work.
 from __future__ import annotations
 
 import time
+import zlib
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional
@@ -25,7 +26,7 @@ from ..world.world import World
 from .bindings import StepSampler
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
-from .pristine import PristineFailures, fixed_objects, pristine_keys, touch_masks
+from .pristine import PristineFailures, fixed_objects, pristine_keys
 from .refine import Refinement, Step, skeleton_steps
 from .schedule import SLICE, next_turn
 from .serialize import plan_entries
@@ -63,10 +64,18 @@ def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = 
     return task, placeholders
 
 
-def skeleton_order(task: StripsTask, deadline: Optional[float] = None) -> Iterator[List[int]]:
-    """Skeletons in the order the planner takes them from the symbolic search (before it
-    defers those that repeat a dead pristine step: pristine.py)."""
-    return iter_skeletons(task, deadline=deadline, touches=touch_masks(task))
+def skeleton_order(task: StripsTask, deadline: Optional[float] = None,
+                   memo: Optional[PristineFailures] = None) -> Iterator[List[int]]:
+    """Skeletons in the order the planner takes them from the symbolic search. With `memo`,
+    as refinement finds pristine steps dead (pristine.py): paths that would repeat one wait
+    until the others run out, and paths are told apart by which of the objects of dead
+    steps they have handled (a box out of reach hooked closer and put back is not the box
+    where it lay)."""
+    if memo is None:
+        return iter_skeletons(task, deadline=deadline)
+    masks = memo.attach(task)
+    return iter_skeletons(task, deadline=deadline, handles=masks, relevant=lambda: memo.flagged,
+                          blocked=memo.blocks_operator)
 
 
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
@@ -78,7 +87,6 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     mechanisms' learned samplers, by mechanism name."""
     start = time.perf_counter()
     deadline = start + timeout
-    rng = np.random.default_rng(seed)
     task, placeholders = prepare_task(domain, problem, use_mechanisms)
     counts: Counter = Counter()
     sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts,
@@ -103,7 +111,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         result = execute_plan(task, problem, plan_entries(steps, values))
         return None if result.goal_reached else f"in a fresh world, {result.message}"
     memo, fixed = PristineFailures(start=start), fixed_objects(task)
-    skeletons = skeleton_order(task, deadline)
+    skeletons = skeleton_order(task, deadline, memo)
     deferred: List[List[int]] = []   # skeletons that repeat a dead pristine step, in order
     active: Dict[int, Refinement] = {}
     plans: Dict[int, List[int]] = {}
@@ -143,10 +151,12 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                     more = False
                     continue
                 stats["skeletons"] += 1
-                created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3),
-                                "skeleton": " ".join(task.operators[o].label for o in plan)})
-                # Each skeleton draws from its own generator, seeded in creation order.
-                skeleton_rng = np.random.default_rng(rng.integers(1 << 63))
+                label = " ".join(task.operators[o].label for o in plan)
+                created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
+                # Each skeleton draws from its own generator, seeded by the plan's seed and its
+                # labels: what one skeleton draws does not depend on which others came first
+                # (or were deferred), so a change in the skeleton order does not reshuffle luck.
+                skeleton_rng = np.random.default_rng([seed, zlib.crc32(label.encode())])
                 steps = skeleton_steps(task, plan)
                 active[turn] = Refinement(steps, initial, world, task, sampler, skeleton_rng,
                                           in_fresh_world if validate else None, rank=turn,

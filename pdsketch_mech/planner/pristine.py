@@ -35,10 +35,10 @@ def fixed_objects(task: StripsTask) -> Set[str]:
     return {fact[1] for fact in held if fact[0] == "fixed"}
 
 
-def touch_masks(task: StripsTask) -> List[int]:
-    """Per operator, a bitmask of the movable objects it handles (for iter_skeletons)."""
+def touch_masks(task: StripsTask) -> Tuple[List[int], Dict[str, int]]:
+    """Per operator, a bitmask of the movable objects it handles; and each object's bit."""
     fixed = fixed_objects(task)
-    index: dict = {}
+    index: Dict[str, int] = {}
     masks = []
     for op in task.operators:
         mask = 0
@@ -46,7 +46,7 @@ def touch_masks(task: StripsTask) -> List[int]:
             if name not in fixed:
                 mask |= 1 << index.setdefault(name, len(index))
         masks.append(mask)
-    return masks
+    return masks, index
 
 
 def pristine_keys(steps: Sequence[Step], fixed: Set[str]) -> List[Optional[StepKey]]:
@@ -67,6 +67,9 @@ class PristineFailures:
 
     def __init__(self, dead_after: int = DEAD_AFTER, start: Optional[float] = None):
         self.dead_after = dead_after
+        self.bits: Dict[str, int] = {}    # object -> its bit in the symbolic search's masks
+        self.flagged = 0                  # bits of the objects some dead step is about
+        self._steps: List[Tuple[Tuple[StepKey, int], ...]] = []  # per operator: (key, mask) per step
         self.start = time.perf_counter() if start is None else start
         self.dry: Counter = Counter()
         self.feasible: Set[StepKey] = set()
@@ -79,6 +82,9 @@ class PristineFailures:
         self.dry[key] += 1
         if self.dry[key] >= self.dead_after:
             self.dead[key] = round(time.perf_counter() - self.start, 3)
+            for name in key[1]:
+                if name in self.bits:
+                    self.flagged |= 1 << self.bits[name]
             return True
         return False
 
@@ -87,6 +93,25 @@ class PristineFailures:
         if key is not None:
             self.feasible.add(key)
             self.dead.pop(key, None)
+
+    def attach(self, task: StripsTask) -> List[int]:
+        """Prepare to answer `blocks_operator` for `task`'s operators; returns touch_masks."""
+        masks, self.bits = touch_masks(task)
+        keys = [(op.name, _objects(op.args)) for op in task.operators]
+        self._steps = [tuple((keys[b], masks[b]) for b in (op.steps or (i,)))
+                       for i, op in enumerate(task.operators)]
+        return masks
+
+    def blocks_operator(self, handled: int, op: int) -> bool:
+        """Whether operator `op` (its steps, for a mechanism), after a path that handled the
+        objects `handled`, has a dead pristine step."""
+        if not self.dead:
+            return False
+        for key, mask in self._steps[op]:
+            if not mask & handled and key in self.dead:
+                return True
+            handled |= mask
+        return False
 
     def blocks(self, keys: Sequence[Optional[StepKey]]) -> bool:
         """Whether a skeleton with these step keys repeats a dead pristine step."""
