@@ -53,7 +53,10 @@ def test_an_extra_push_of_a_distractor_is_part_of_the_fragment(tmp_path):
 
 # Seconds allowed per mechanism on a busy 2-core machine (measured: README, "Extracted mechanisms").
 MACRO_TIMEOUT = {"hook": 400, "edge": 200, "lever": 200, "poking": 200, "com": 120, "slope-blocker": 120}
-USES_MECHANISM = {"hook", "poking", "com", "slope-blocker"}   # Edge and Lever were solved by basis steps
+# Plans that carry out the mechanism's strategy: its macro, or its very steps as basis operators
+# (Poking's canonical instance is solved that way since skeletons draw by their labels). Edge and
+# Lever were solved by other basis steps.
+USES_MECHANISM = {"hook", "poking", "com", "slope-blocker"}
 
 
 @pytest.mark.parametrize("demo", sorted(EXPECTED_STEPS))
@@ -70,4 +73,5 @@ def test_each_fragment_with_generic_samplers_solves_its_canonical_instance(tmp_p
     document = json.loads(out.read_text())
     assert document["status"] == "solved"
     if demo in USES_MECHANISM:
-        assert f"; {name}" in result.stdout
+        steps = [c.name for c in read_domain_file(os.path.join(MECHANISMS_DIR, f"{name}.pddl")).mechanisms[0].actions]
+        assert f"; {name}" in result.stdout or [s["name"] for s in document["plan"]] == steps, result.stdout
