@@ -121,20 +121,27 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     failures: Counter = Counter()
     more = True
 
-    def next_plan() -> Optional[List[int]]:
-        """The next skeleton that repeats no dead pristine step; a deferred one once the
-        symbolic search has no more (or the cap is reached); None when none is left."""
+    def next_plan():
+        """The next skeleton that repeats no dead pristine step, with its steps and their
+        keys; a deferred one once the symbolic search has no more (or the cap is reached);
+        None when none is left."""
         nonlocal more
         while more and stats["skeletons"] < max_skeletons and time.perf_counter() < deadline:
             plan = next(skeletons, None)
             if plan is None:
                 more = False
-            elif memo.blocks(pristine_keys(skeleton_steps(task, plan), fixed)):
-                deferred.append(plan)
-                stats["deferred"] += 1
-            else:
-                return plan
-        return deferred.pop(0) if deferred else None
+                break
+            steps = skeleton_steps(task, plan)
+            keys = pristine_keys(steps, fixed)
+            if not memo.blocks(keys):
+                return plan, steps, keys
+            deferred.append(plan)
+            stats["deferred"] += 1
+        if not deferred:
+            return None
+        plan = deferred.pop(0)
+        steps = skeleton_steps(task, plan)
+        return plan, steps, pristine_keys(steps, fixed)
 
     try:
         while time.perf_counter() < deadline:
@@ -145,11 +152,12 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 break
             if turn not in active:
                 t0 = time.perf_counter()
-                plan = next_plan()
+                taken = next_plan()
                 stats["symbolic_s"] += time.perf_counter() - t0
-                if plan is None:
+                if taken is None:
                     more = False
                     continue
+                plan, steps, keys = taken
                 stats["skeletons"] += 1
                 label = " ".join(task.operators[o].label for o in plan)
                 created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
@@ -157,13 +165,12 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 # labels: what one skeleton draws does not depend on which others came first
                 # (or were deferred), so a change in the skeleton order does not reshuffle luck.
                 skeleton_rng = np.random.default_rng([seed, zlib.crc32(label.encode())])
-                steps = skeleton_steps(task, plan)
                 active[turn] = Refinement(steps, initial, world, task, sampler, skeleton_rng,
                                           in_fresh_world if validate else None, rank=turn,
-                                          pristine=pristine_keys(steps, fixed), memo=memo)
+                                          pristine=keys, memo=memo)
                 plans[turn] = plan
             refinement = active[turn]
-            t0 = time.perf_counter()
+            t0, deaths = time.perf_counter(), memo.deaths
             values = refinement.run(deadline, SLICE)
             stats["continuous_s"] += time.perf_counter() - t0
             if values is not None:
@@ -177,8 +184,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 del active[turn]
                 stats["pruned"] += 1
                 failures += _retire(refinement, stats)
-            if refinement.newly_dead:
-                refinement.newly_dead = False
+            if memo.deaths > deaths:  # skeletons created before that repeat the dead step wait
                 for rank in [r for r, other in active.items() if memo.blocks(other.pristine)]:
                     failures += _retire(active.pop(rank), stats)
                     deferred.append(plans[rank])

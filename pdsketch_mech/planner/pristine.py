@@ -17,6 +17,7 @@ import time
 from collections import Counter
 from typing import Dict, List, Optional, Sequence, Set, Tuple
 
+from ..symbolic.optimistic import is_placeholder
 from ..symbolic.task import StripsTask
 from .refine import Step
 
@@ -26,7 +27,7 @@ StepKey = Tuple[str, Tuple[str, ...]]
 
 
 def _objects(args: Sequence[str]) -> Tuple[str, ...]:
-    return tuple(a for a in args if not a.startswith("#"))  # '#...': stream placeholders
+    return tuple(a for a in args if not is_placeholder(a))
 
 
 def fixed_objects(task: StripsTask) -> Set[str]:
@@ -74,6 +75,7 @@ class PristineFailures:
         self.dry: Counter = Counter()
         self.feasible: Set[StepKey] = set()
         self.dead: Dict[StepKey, float] = {}   # -> seconds from the start when it was found dead
+        self.deaths = 0                         # steps found dead so far (grows only)
 
     def ran_dry(self, key: Optional[StepKey]) -> bool:
         """Note a visit of `key` that found no feasible value; True if that made it dead."""
@@ -82,6 +84,7 @@ class PristineFailures:
         self.dry[key] += 1
         if self.dry[key] >= self.dead_after:
             self.dead[key] = round(time.perf_counter() - self.start, 3)
+            self.deaths += 1
             for name in key[1]:
                 if name in self.bits:
                     self.flagged |= 1 << self.bits[name]

@@ -67,7 +67,6 @@ class Refinement:
     # Steps on untouched objects (pristine.py): keys per step, and the planner's shared record.
     pristine: Sequence[Optional["StepKey"]] = ()
     memo: Optional["PristineFailures"] = None
-    newly_dead: bool = False      # a step of this skeleton was found dead in the last run
 
     def __post_init__(self) -> None:
         n = len(self.steps)
@@ -107,7 +106,7 @@ class Refinement:
                 self.generators[i] = None
                 self.failures[f"{step.name}: no feasible parameters"] += 1
                 if self.visit_values[i] == 0 and self.memo is not None and self.pristine:
-                    self.newly_dead |= self.memo.ran_dry(self.pristine[i])
+                    self.memo.ran_dry(self.pristine[i])
                 if i > 0:
                     self.depth -= 1
                     continue

@@ -82,7 +82,7 @@ def gripper_frames(p1: np.ndarray, p2: np.ndarray, angles: np.ndarray) -> np.nda
     b = _cross(y, a)
     cos, sin = np.cos(angles)[:, None], np.sin(angles)[:, None]
     frames = np.tile(np.eye(4), (len(angles), 1, 1))
-    frames[:, :3, 0] = cos * _cross(y, a) + sin * _cross(y, b)   # x = y cross z
+    frames[:, :3, 0] = cos * b + sin * _cross(y, b)   # x = y cross z (b = y cross a)
     frames[:, :3, 1] = y
     frames[:, :3, 2] = cos * a + sin * b
     frames[:, :3, 3] = (p1 + p2) / 2
@@ -157,11 +157,13 @@ def _inside_gripper(points: np.ndarray, opening: float) -> np.ndarray:
     return hand | finger
 
 
+_HAND_RADIUS = float(np.linalg.norm([max(abs(lo), abs(hi)) for lo, hi in HAND_BOX]))
+
+
 def _gripper_radius(opening: float) -> float:
     """The farthest any point of the hand or fingers lies from the gripper frame's origin."""
-    hand = np.linalg.norm([max(abs(lo), abs(hi)) for lo, hi in HAND_BOX])
     finger = np.linalg.norm([FINGER_HALF_WIDTH, opening / 2 + FINGER_THICKNESS, max(map(abs, FINGER_SPAN))])
-    return float(max(hand, finger))
+    return max(_HAND_RADIUS, float(finger))
 
 
 def _fingertip_points(opening: float) -> np.ndarray:
