@@ -237,6 +237,45 @@ def test_a_plate_balances_on_the_small_block_only_over_its_centre_of_mass(offset
         assert (("flat", "pedestal") in graph.support and ("flat", "table") not in graph.support) == stays
 
 
+@pytest.mark.parametrize("seed, heading", [(None, 180.0), (None, 90.0), (2, -90.0), (5, 135.0), (7, 0.0)])
+def test_a_push_leaves_the_lever_plate_in_its_cradle_and_ungraspable(seed, heading):
+    """A finger-sized ball pressing the inside of the Lever's plate rim and driven 5 cm on
+    (at 4 cm/s, up to 40 N) towards the robot, a side or the pit leaves the plate on its
+    ledge, within 1.5 cm of where it was, and still ungraspable: the curb and the wall stop it.
+    Without the curb it is pushed off the platform (or, over one no taller than its rim, up onto
+    it) and grasped where it overhangs."""
+    import pybullet as p
+
+    from pdsketch_mech.samplers.grasp import sample_grasps
+    from pdsketch_mech.world.contacts import read_contacts
+
+    inst, world = _world_of("lever", seed)
+    with world:
+        world.settle()
+        start = np.array(world.pose("plate")[0])
+        yaw = float(p.getEulerFromQuaternion(world.pose("ledge")[1])[2])
+        direction = np.array([np.cos(np.radians(heading) + yaw), np.sin(np.radians(heading) + yaw), 0.0])
+        lo, hi = (np.array(v) for v in world.aabb("plate"))
+        radius = float(inst.object("plate").bbox()[1][0])
+        at = start + direction * (radius - 0.03)
+        at[2] = lo[2] + 0.014
+        ball = p.createMultiBody(0.1, p.createCollisionShape(p.GEOM_SPHERE, radius=0.008, physicsClientId=world.client),
+                                 basePosition=at.tolist(), physicsClientId=world.client)
+        drive = p.createConstraint(ball, -1, -1, -1, p.JOINT_FIXED, [0, 0, 0], [0, 0, 0], at.tolist(),
+                                   physicsClientId=world.client)
+        steps = 300   # 1.25 s at 240 Hz
+        for i in range(1, steps + 1):
+            p.changeConstraint(drive, (at + direction * 0.05 * i / steps).tolist(), maxForce=40.0,
+                               physicsClientId=world.client)
+            world.step()
+        p.removeBody(ball, physicsClientId=world.client)
+        world.settle(max_steps=960)
+        moved = float(np.hypot(*(np.array(world.pose("plate")[0]) - start)[:2]))
+        assert moved < 0.015, f"the plate moved {100 * moved:.1f} cm"
+        assert read_contacts(world).supports_of("plate") == ["ledge"]
+        assert next(sample_grasps(world, "plate", np.random.default_rng(0), max_attempts=300), None) is None
+
+
 def test_edge_objects_start_14_cm_or_more_from_every_table_edge():
     """Issue 11's Edge figure is measured around a pose 14 cm or more from every edge of the
     table (table/1: x 0.2..1.0, y -0.5..0.5): the four objects of that figure (variant 0 of each

@@ -12,7 +12,7 @@ from pdsketch_mech.lang.scene import SceneObject
 from pdsketch_mech.world.asset_index import assets_root, resolve_asset
 from pdsketch_mech.world.build import build_world
 from pdsketch_mech.world.collision import CollisionChecker
-from pdsketch_mech.world.contacts import read_contacts
+from pdsketch_mech.world.contacts import pair_normal_z, read_contacts
 from pdsketch_mech.world.motion import cartesian_path, path_is_free, plan_motion
 from pdsketch_mech.world.render import render, save_gif, save_png
 from pdsketch_mech.lang.errors import PddlError
@@ -228,3 +228,12 @@ def test_scene_overlapping_the_robot_is_reported():
     text = SCENE_PROBLEM.format(a="box/0", z=0.3).replace("(0.5 0 0.3)", "(0.0 0.0 0.3)")
     with pytest.raises(PddlError, match="scene object 'a': overlaps the robot"):
         build_world(parse_text(text, "p.pddl"))
+
+
+def test_a_pairs_normal_comes_from_its_closest_points():
+    """A plate resting on a ledge (normals up, 0 mm) whose rim passes 1-2 mm from the ledge's
+    wall (normals sideways) rests on it: only points within 0.5 mm of the closest count."""
+    up, side = [1.0] * 4, [0.0] * 10
+    assert pair_normal_z([0.0] * 4 + [0.0015] * 10, up + side) == pytest.approx(1.0)
+    # Points equally close all count: a block leaning on a wall as much as resting is touching.
+    assert pair_normal_z([0.0] * 14, up + side) == pytest.approx(4 / 14)

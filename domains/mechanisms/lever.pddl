@@ -4,8 +4,8 @@
 ; learned sampler (:sampler); re-extracting keeps that name.
 ; Steps (demonstration time):
 ;   1. (grasp weight table) at 2.42 s
-;   2. (place weight plate) at 6.15 s
-;   3. (grasp plate ledge) at 9.52 s
+;   2. (place weight plate) at 6.17 s
+;   3. (grasp plate ledge) at 9.33 s
 ; Variables (role: why):
 ;   ?weight = weight: moved, ends up resting on the target
 ;   ?target = plate: moved by the robot, named by the goal

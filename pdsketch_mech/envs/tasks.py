@@ -73,12 +73,13 @@ HOOK = TaskSpec(
 
 LEVER = TaskSpec(
     "lever", "Lever",
-    "a plate lies flat on a ledge, its far side over a pit hemmed in by a curved wall: no finger "
-    "gets under or around its rim until a heavy object on the overhang tips the near side up",
+    "a plate lies flat on a ledge, its far side over a pit hemmed in by a curved wall, its near side "
+    "in a curb it cannot be pushed over: no finger gets under or around its rim until a heavy "
+    "object on the overhang tips the near side up",
     objects=(
         TABLE,
         ObjectSpec("ledge", Assets(("ledge/0", "ledge/1"), ("ledge/2",)), xy=(0.55, -0.12), fixed=True,
-                   role="the fulcrum: platform, pit and wall"),
+                   role="the fulcrum: platform, pit, wall and curb"),
         # Paired with the ledge (ledge/i cradles plate/i) and centred in its cradle.
         ObjectSpec("plate", Assets(("plate/0", "plate/1"), ("plate/2",)), on="ledge", frame="ledge",
                    surface=LEDGE_HEIGHT, match="ledge", noise_xy=(0.0, 0.0), role="the plate to pick up"),

@@ -17,6 +17,7 @@ Thresholds (and why):
   touch; 2 mm is what the world's own contact graph (`world/contacts.py`) uses.
 - SUPPORT_COS 0.7: a support normal within ~45 degrees of +z, as in `world/contacts.py`, so
   a 20-degree slope supports what lies on it while a side push (normal ~horizontal) does not.
+  A pair's normal is averaged over its closest points, as there (`pair_normal_z`).
 - SQUEEZE_COS -0.2: the two fingers' mean contact normals must point away from each other
   (the object is between them). Rim grasps on a flared plate give about -0.46; a closed hand
   pushing a face with both fingertips gives about +0.9.
@@ -31,6 +32,7 @@ from typing import Dict, FrozenSet, List, Tuple
 
 import numpy as np
 
+from ..world.contacts import pair_normal_z
 from .recording import Recording
 
 CONTACT_DISTANCE = 2e-3
@@ -89,10 +91,11 @@ def frame_graphs(recording: Recording, bodies: Bodies) -> List[FrameGraph]:
 def _graph(rows: Dict[str, np.ndarray], bodies: Bodies, gripper_opening: bool) -> FrameGraph:
     near = rows["distance"] < CONTACT_DISTANCE
     pairs, links, normals = rows["bodies"][near], rows["links"][near], rows["normal"][near].astype(float)
+    distances = rows["distance"][near].astype(float)
     robot_touch = set()
     finger_normals: Dict[int, Dict[int, List[np.ndarray]]] = {}
-    object_normals: Dict[Pair, List[float]] = {}
-    for (a, b), (la, lb), n in zip(pairs.tolist(), links.tolist(), normals):
+    object_normals: Dict[Pair, List[Tuple[float, float]]] = {}   # (distance, normal z) per point
+    for (a, b), (la, lb), n, d in zip(pairs.tolist(), links.tolist(), normals, distances):
         if a == b:
             continue
         if a == 0 or b == 0:
@@ -108,7 +111,7 @@ def _graph(rows: Dict[str, np.ndarray], bodies: Bodies, gripper_opening: bool) -
             continue  # furniture on furniture is scenery, never a mode
         # Normal z oriented from the lower index towards the higher one.
         z = float(n[2]) if a > b else -float(n[2])
-        object_normals.setdefault((min(a, b), max(a, b)), []).append(z)
+        object_normals.setdefault((min(a, b), max(a, b)), []).append((float(d), z))
     squeezed = set()
     if not gripper_opening:
         for obj, by_link in finger_normals.items():
@@ -118,8 +121,9 @@ def _graph(rows: Dict[str, np.ndarray], bodies: Bodies, gripper_opening: bool) -
                 if cos < SQUEEZE_COS:
                     squeezed.add(obj)
     support, touching = set(), set()
-    for (lo, hi), zs in object_normals.items():
-        z = float(np.mean(zs))          # from lo towards hi: > 0 means hi is above lo
+    for (lo, hi), points in object_normals.items():
+        ds, zs = zip(*points)
+        z = pair_normal_z(ds, zs)       # from lo towards hi: > 0 means hi is above lo
         if z > SUPPORT_COS:
             support.add((hi, lo))
         elif z < -SUPPORT_COS:

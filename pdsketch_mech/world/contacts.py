@@ -3,12 +3,18 @@
 `support(x, y)`: y pushes x up — x and y touch and the contact normal on y points up
 within `SUPPORT_COS` of +z (PyBullet's normal on B points from B towards A). This is what
 demonstration segmentation and the operators' effect checks read.
+
+The normal of a pair is averaged over its *closest* contact points only, those within
+`CONTACT_BAND` of the nearest: a plate resting on a ledge (normals up, 0 mm) whose rim passes
+1-2 mm from the ledge's wall or lip (normals sideways) rests on the ledge; averaging over every
+point inside `CONTACT_DISTANCE` would call it merely touching.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, FrozenSet, List, Optional, Tuple
+from typing import TYPE_CHECKING, FrozenSet, List, Optional, Sequence, Tuple
 
+import numpy as np
 import pybullet as p
 
 if TYPE_CHECKING:
@@ -16,6 +22,15 @@ if TYPE_CHECKING:
 
 SUPPORT_COS = 0.7      # normal within ~45 degrees of vertical: inclined slopes support too
 CONTACT_DISTANCE = 2e-3  # metres: closer than this counts as touching
+CONTACT_BAND = 5e-4      # metres: the points that set a pair's normal, beyond its closest one
+
+
+def pair_normal_z(distances: Sequence[float], normal_zs: Sequence[float]) -> float:
+    """The z of a touching pair's mean contact normal, over its points within `CONTACT_BAND`
+    of the closest one (`distances` and `normal_zs` per contact point, nonempty)."""
+    d = np.asarray(distances, dtype=float)
+    z = np.asarray(normal_zs, dtype=float)
+    return float(z[d <= d.min() + CONTACT_BAND].mean())
 
 
 @dataclass(frozen=True)
@@ -52,8 +67,8 @@ def read_contacts(world: "World") -> ContactGraph:
                       if c[8] < CONTACT_DISTANCE]
             if not points:
                 continue
-            # Normal on B, pointing towards A, summed over the contact patch.
-            nz = sum(c[7][2] for c in points) / len(points)
+            # Normal on B, pointing towards A, averaged over the closest points of the patch.
+            nz = pair_normal_z([c[8] for c in points], [c[7][2] for c in points])
             if nz > SUPPORT_COS and name_a != held:
                 support.add((name_a, name_b))
             elif nz < -SUPPORT_COS and name_b != held:

@@ -272,22 +272,33 @@ def _tunnel(height: float, width: float, length: float, wall: float = 0.02) -> P
 
 
 def _ledge(radius: float, height: float = 0.02, margin: float = 0.02, gap: float = 0.009,
-           wall: float = 0.015, wall_above: float = 0.03, back: float = 0.1, segments: int = 12) -> Parts:
+           wall: float = 0.015, wall_above: float = 0.03, curb_above: float = 0.018,
+           segments: int = 12) -> Parts:
     # A lever's fulcrum for a plate of `radius` (the Lever task): a `height` platform whose
     # +x edge, `margin` beyond the cradle's centre (the origin), is the fulcrum; beyond it a pit
     # down to the table, closed by a curved wall `gap` outside the plate's rim. A plate centred
     # on the origin rests flat (its centre of mass over the platform) with every rim point that
     # overhangs the pit hemmed in by the wall: no finger fits outside it, so the plate cannot be
     # grasped until a weight on the overhang tips that side into the pit and the other side up.
+    # A curb hems the near half in as well, `curb_above` over the platform: 3 mm taller than
+    # the plate's rim, so a push cannot ride the rim up onto it (a curb no taller than the rim
+    # meets its flare, which ramps the plate up), nor push the plate off the platform's back
+    # or side edge (the Edge strategy). A tipped plate's near rim rises 2 cm clear above it,
+    # and moves inwards as it rises, so the fingers take the rim over the curb.
     outer = radius + gap + wall
-    platform = box((margin + radius + back, 2 * outer, height), ((margin - radius - back) / 2, 0.0, height / 2))
-    angles = np.radians(np.linspace(-90.0, 90.0, segments + 1))
+    platform = box((margin + outer, 2 * outer, height), ((margin - outer) / 2, 0.0, height / 2))
     parts = [platform]
-    for a, b in zip(angles, angles[1:]):
-        # Inner corners on the circle radius + gap: a chord only comes closer at its middle.
-        pts = [(r * math.cos(t), r * math.sin(t), z) for r in (radius + gap, outer) for t in (a, b)
-               for z in (0.0, height + wall_above)]
-        parts.append(hull(pts))
+
+    def ring(top: float, start: float, stop: float) -> None:
+        angles = np.radians(np.linspace(start, stop, segments + 1))
+        for a, b in zip(angles, angles[1:]):
+            # Inner corners on the circle radius + gap: a chord only comes closer at its middle.
+            pts = [(r * math.cos(t), r * math.sin(t), z) for r in (radius + gap, outer) for t in (a, b)
+                   for z in (0.0, top)]
+            parts.append(hull(pts))
+
+    ring(height + wall_above, -90.0, 90.0)   # the wall around the pit
+    ring(height + curb_above, 90.0, 270.0)   # the curb around the platform
     return parts
 
 
@@ -403,7 +414,7 @@ CATEGORIES: Dict[str, Category] = {c.name: c for c in [
                                     length=0.18)),
              0.0, 0.5, (0.6, 0.6, 0.6, 1.0), fixed=True),
     # The Lever task's fulcrum, one per plate size (plate/0, plate/1, plate/2).
-    Category("ledge", _ledge, (_v("ledge cradling a 22 cm plate: 2 cm platform, pit, curved wall", radius=0.11),
+    Category("ledge", _ledge, (_v("ledge cradling a 22 cm plate: 2 cm platform, pit, curved wall and curb", radius=0.11),
                                _v("ledge cradling a 20 cm plate", radius=0.10),
                                _v("ledge cradling a 24 cm plate", radius=0.12)),
              0.0, 0.6, (0.5, 0.5, 0.58, 1.0), fixed=True),
