@@ -258,10 +258,10 @@ def test_a_push_leaves_the_lever_plate_in_its_cradle_and_ungraspable(seed, headi
         start = np.array(world.pose("plate")[0])
         yaw = float(p.getEulerFromQuaternion(world.pose("ledge")[1])[2])
         direction = np.array([np.cos(np.radians(heading) + yaw), np.sin(np.radians(heading) + yaw), 0.0])
-        lo, hi = (np.array(v) for v in world.aabb("plate"))
+        bottom = float(world.aabb("plate")[0][2])
         radius = float(inst.object("plate").bbox()[1][0])
         at = start + direction * (radius - 0.03)
-        at[2] = lo[2] + 0.014
+        at[2] = bottom + 0.014
         ball = p.createMultiBody(0.1, p.createCollisionShape(p.GEOM_SPHERE, radius=0.008, physicsClientId=world.client),
                                  basePosition=at.tolist(), physicsClientId=world.client)
         drive = p.createConstraint(ball, -1, -1, -1, p.JOINT_FIXED, [0, 0, 0], [0, 0, 0], at.tolist(),

@@ -12,7 +12,7 @@ import time
 import zlib
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional
+from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -26,7 +26,7 @@ from ..world.world import World
 from .bindings import StepSampler
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
-from .pristine import PristineFailures, fixed_objects, pristine_keys
+from .pristine import PristineFailures, StepKey, fixed_objects, pristine_keys
 from .refine import Refinement, Step, skeleton_steps
 from .schedule import SLICE, next_turn
 from .serialize import plan_entries
@@ -112,7 +112,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         return None if result.goal_reached else f"in a fresh world, {result.message}"
     memo, fixed = PristineFailures(start=start), fixed_objects(task)
     skeletons = skeleton_order(task, deadline, memo)
-    deferred: List[List[int]] = []   # skeletons that repeat a dead pristine step, in order
+    # Skeletons that repeat a dead pristine step, in order, with their steps and step keys.
+    deferred: List[Tuple[List[int], List[Step], List[Optional[StepKey]]]] = []
     active: Dict[int, Refinement] = {}
     plans: Dict[int, List[int]] = {}
     created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
@@ -135,13 +136,9 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
             keys = pristine_keys(steps, fixed)
             if not memo.blocks(keys):
                 return plan, steps, keys
-            deferred.append(plan)
+            deferred.append((plan, steps, keys))
             stats["deferred"] += 1
-        if not deferred:
-            return None
-        plan = deferred.pop(0)
-        steps = skeleton_steps(task, plan)
-        return plan, steps, pristine_keys(steps, fixed)
+        return deferred.pop(0) if deferred else None
 
     try:
         while time.perf_counter() < deadline:
@@ -186,8 +183,9 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 failures += _retire(refinement, stats)
             if memo.deaths > deaths:  # skeletons created before that repeat the dead step wait
                 for rank in [r for r, other in active.items() if memo.blocks(other.pristine)]:
-                    failures += _retire(active.pop(rank), stats)
-                    deferred.append(plans[rank])
+                    retired = active.pop(rank)
+                    failures += _retire(retired, stats)
+                    deferred.append((plans[rank], list(retired.steps), list(retired.pristine)))
                     stats["deferred"] += 1
     finally:
         world.restore(initial)

@@ -10,9 +10,9 @@ too (one push moves an object at most 25 cm). Plans are never extended past the 
 (sound: a plan whose prefix reaches the goal is yielded first). The per-(state, depth)
 visit bound is the one pruning that is not sound in general: beyond `max_visits` paths of
 one length into one state, longer alternatives are dropped (goal paths are leaves and never
-count against it). With `touches` (per operator,
-the bitmask of the objects it handles that matter) paths are also told apart by which of
-those objects they have handled: hooking a box that is out of reach closer and putting it
+count against it). With `handles` (per operator, the bitmask of the objects it handles)
+and `relevant` (the bits that matter, asked as the search goes) paths are also told apart
+by which of those objects they have handled: hooking a box that is out of reach closer and putting it
 back on the table returns to the initial symbolic state, but not to the initial scene, and
 must not compete with the many no-op pushes that reach that state too.
 """
@@ -60,6 +60,10 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
     visits: Counter = Counter()
     seen_plans: Set[Tuple[str, ...]] = set()
     counter = 0
+
+    def visit_key(state, cost: int, handled: int) -> tuple:
+        return state, cost, handled & relevant() if relevant is not None else 0
+
     # (f, h, tie-break, state, cost, objects handled, objects handled before the last op, path)
     open_list = [(weight * h_cache[task.init], h_cache[task.init], counter, task.init, 0, 0, 0, None)]
     waiting: list = []
@@ -81,7 +85,7 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
                 seen_plans.add(labels)
                 yield plan
             continue
-        key = (state, cost, handled & relevant() if relevant is not None else 0)
+        key = visit_key(state, cost, handled)
         if visits[key] >= max_visits:
             continue
         visits[key] += 1
@@ -91,8 +95,7 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
             child = task.successor(state, task.operators[op])
             child_handled = handled | handles[op] if handles is not None else 0
             waits = blocked is not None and blocked(handled, op)
-            key = (child, cost + 1, child_handled & relevant() if relevant is not None else 0)
-            if not waits and visits[key] >= max_visits and not task.is_goal(child):
+            if not waits and visits[visit_key(child, cost + 1, child_handled)] >= max_visits and not task.is_goal(child):
                 continue
             h = h_cache.get(child)
             if h is None:
