@@ -12,7 +12,7 @@ is body 0, the finger links are the header's finger joints, and `fixed` comes fr
 header's body kinds (the scene's static furniture). Debouncing these per-frame signals and
 cutting segments is `segmentation.py`'s job.
 
-Thresholds (and why):
+Thresholds (and why; the first two are the world's own, imported from `world/contacts.py`):
 - CONTACT_DISTANCE 2 mm: PyBullet also reports pairs inside its collision margin that do not
   touch; 2 mm is what the world's own contact graph (`world/contacts.py`) uses.
 - SUPPORT_COS 0.7: a support normal within ~45 degrees of +z, as in `world/contacts.py`, so
@@ -32,11 +32,9 @@ from typing import Dict, FrozenSet, List, Tuple
 
 import numpy as np
 
-from ..world.contacts import pair_normal_z
+from ..world.contacts import CONTACT_DISTANCE, SUPPORT_COS, pair_normal_z
 from .recording import Recording
 
-CONTACT_DISTANCE = 2e-3
-SUPPORT_COS = 0.7
 SQUEEZE_COS = -0.2
 OPENING_TOLERANCE = 5e-4
 OPENING_LOOKBACK = 2
