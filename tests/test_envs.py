@@ -95,17 +95,26 @@ def test_generated_problems_parse_type_check_and_do_not_overlap(task):
         assert first_overlap(TASKS[task], inst.objects) is None
 
 
+HEAVY = {"pybullet", "torch", "trimesh"}   # the simulator, the learner, the mesh library
+
+
+def imports_of(args):
+    """(stdout, modules imported) of `python -X importtime ARGS` run from the repository."""
+    out = subprocess.run([sys.executable, "-X", "importtime", *args], capture_output=True, text=True, check=True,
+                         cwd=ROOT)
+    return out.stdout, {line.rsplit("|", 1)[-1].strip() for line in out.stderr.splitlines()
+                        if line.startswith("import time:")}
+
+
 def test_generation_reads_the_asset_index_not_meshes_or_physics():
     """What keeps generation at a few ms a problem (80 problems in ~0.2 s here): extents
     come from the asset index, so no mesh library or simulator is ever loaded."""
-    code = ("import sys\n"
-            "from pdsketch_mech.envs import TASKS, sample\n"
+    code = ("from pdsketch_mech.envs import TASKS, sample\n"
             f"for task in {ALL!r}:\n"
             "    for seed in range(10):\n"
-            "        sample(TASKS[task], 'test', seed).problem_text()\n"
-            "print(sorted(m for m in ('trimesh', 'pybullet', 'torch') if m in sys.modules))\n")
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "[]"
+            "        sample(TASKS[task], 'test', seed).problem_text()\n")
+    _, imported = imports_of(["-c", code])
+    assert not HEAVY & imported
 
 
 def test_cli_writes_a_file_and_rejects_bad_requests(tmp_path, capsys):
@@ -130,13 +139,12 @@ def test_cli_process_is_light_and_deterministic(tmp_path):
     """Writing a problem loads neither the simulator nor torch (it takes ~0.2 s: Python, numpy
     and the manifest), and the same seed gives the same bytes. Checked from the imports, not
     the clock, so a loaded machine cannot fail it."""
-    cmd = [sys.executable, "-X", "importtime", "-m", "pdsketch_mech.envs", "poking", "--seed", "11", "--split", "test"]
-    first = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT)
-    second = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT)
-    assert first.stdout == second.stdout and first.stdout.startswith("; Poking")
-    imported = {line.rsplit("|", 1)[-1].strip() for line in first.stderr.splitlines() if line.startswith("import time:")}
+    args = ["-m", "pdsketch_mech.envs", "poking", "--seed", "11", "--split", "test"]
+    first, imported = imports_of(args)
+    second, _ = imports_of(args)
+    assert first == second and first.startswith("; Poking")
     assert "numpy" in imported
-    assert not {"pybullet", "torch", "trimesh"} & imported
+    assert not HEAVY & imported
 
 
 def _settle_check(task, split, seeds):

@@ -12,9 +12,9 @@ visit bound is the one pruning that is not sound in general: beyond `max_visits`
 one length into one state, longer alternatives are dropped (goal paths are leaves and never
 count against it). With `handles` (per operator, the bitmask of the objects it handles)
 and `relevant` (the bits that matter, asked as the search goes) paths are also told apart
-by which of those objects they have handled: hooking a box that is out of reach closer and putting it
-back on the table returns to the initial symbolic state, but not to the initial scene, and
-must not compete with the many no-op pushes that reach that state too.
+by which of those objects they have handled: hooking a box that is out of reach closer and
+putting it back on the table returns to the initial symbolic state, but not to the initial
+scene, and must not compete with the many no-op pushes that reach that state too.
 """
 from __future__ import annotations
 
