@@ -35,6 +35,12 @@ def print_error(error: PddlError) -> None:
     print(error.render(source), file=sys.stderr)
 
 
+def fail(message: str, status: int = EXIT_BAD_INPUT) -> int:
+    """Say `error: message` on stderr (one line) and give the exit status to return."""
+    print(escape(f"error: {message}"), file=sys.stderr)
+    return status
+
+
 def print_warning(warning: PddlWarning) -> None:
     """The one-line `FILE:LINE:COL: warning: ...` on stderr."""
     print(warning, file=sys.stderr)

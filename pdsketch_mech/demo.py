@@ -27,15 +27,10 @@ import sys
 import time
 from typing import Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, run, whole
+from .cli import EXIT_OK, EXIT_UNSOLVED, ArgumentParser, fail, run, whole
 from .world.asset_index import REPO_ROOT
 
 DEMOS_DIR = os.path.join(REPO_ROOT, "domains", "mechanisms", "demos")
-
-
-def _fail(message: str, status: int = EXIT_BAD_INPUT) -> int:
-    print(f"error: {message}", file=sys.stderr)
-    return status
 
 
 def _folder_ok(path: Optional[str]) -> bool:
@@ -47,20 +42,20 @@ def record(args) -> int:
     from .learning.recording import RecordingExists, recording_paths, save_recording
 
     if args.name not in TASKS:
-        return _fail(f"unknown demonstration '{args.name}'; demonstrations: {', '.join(TASKS)}")
+        return fail(f"unknown demonstration '{args.name}'; demonstrations: {', '.join(TASKS)}")
     out = os.path.abspath(args.out or DEMOS_DIR)
     if not os.path.isdir(out):
-        return _fail(f"{args.out}: no such folder")
+        return fail(f"{args.out}: no such folder")
     for extra in (args.render, args.strip):
         if not _folder_ok(extra):
-            return _fail(f"{extra}: its folder does not exist")
+            return fail(f"{extra}: its folder does not exist")
     stem = args.name + (f"-{args.variant}" if args.variant else "")
     stem += "" if args.seed is None else f"-{args.split}-{args.seed}"
     base = os.path.join(out, stem)
     if not args.force:
         for path in recording_paths(base):
             if os.path.exists(path):
-                return _fail(f"{os.path.relpath(path)} exists (use --force to replace it)")
+                return fail(f"{os.path.relpath(path)} exists (use --force to replace it)")
 
     from .envs.demos.run import demo_instance, run_demo
     from .envs.demos.variants import VARIANTS
@@ -75,9 +70,9 @@ def record(args) -> int:
     result = run_demo(args.name, instance, on_world=before)
     task = TASKS[args.name]
     if result.error:
-        return _fail(f"demo {args.name} ({instance.name}) failed: {result.error}", EXIT_UNSOLVED)
+        return fail(f"demo {args.name} ({instance.name}) failed: {result.error}", EXIT_UNSOLVED)
     if not result.goal_reached:
-        return _fail(f"demo {args.name} ({instance.name}): the goal {task.goal} does not hold at the end; "
+        return fail(f"demo {args.name} ({instance.name}): the goal {task.goal} does not hold at the end; "
                      f"contacts: {result.facts_text()}", EXIT_UNSOLVED)
     header = result.extra["header"]
     header.update({
@@ -103,7 +98,7 @@ def record(args) -> int:
     try:
         npz, js = save_recording(base, result.extra["arrays"], header, force=args.force)
     except RecordingExists as exc:  # appeared meanwhile
-        return _fail(str(exc))
+        return fail(str(exc))
     size = os.path.getsize(npz) + os.path.getsize(js)
     print(f"wrote {os.path.relpath(npz)} + .json: {header['frames']} frames at {header['rate_hz']:g} Hz "
           f"({header['duration_s']:.1f} s simulated), {header['contacts']} contact points, {size / 1e6:.2f} MB; "
@@ -133,16 +128,16 @@ def show(args) -> int:
     npz, js = recording_paths(args.file)
     for path in (npz, js):
         if not os.path.isfile(path):
-            return _fail(f"{path}: no such file")
+            return fail(f"{path}: no such file")
     for extra in (args.render, args.strip):
         if not _folder_ok(extra):
-            return _fail(f"{extra}: its folder does not exist")
+            return fail(f"{extra}: its folder does not exist")
     if not (args.render or args.strip):
-        return _fail("nothing to do: give --render FILE.gif and/or --strip FILE.png")
+        return fail("nothing to do: give --render FILE.gif and/or --strip FILE.png")
     try:
         return _show(args.file, args.render, args.strip, args.every)
     except ValueError as exc:
-        return _fail(str(exc))
+        return fail(str(exc))
 
 
 def list_demos(args) -> int:
@@ -174,9 +169,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     commands.add_parser("list", help="list the demonstrations")
     args = parser.parse_args(argv)
     if args.command is None:
-        return _fail("give a command: record, show or list")
+        return fail("give a command: record, show or list")
     if args.command == "show" and args.every < 1:
-        return _fail("--every must be >= 1")
+        return fail("--every must be >= 1")
     return {"record": record, "show": show, "list": list_demos}[args.command](args)
 
 

@@ -1,4 +1,4 @@
-"""`python -m pdsketch_mech.learn extract|selfplay|train`: demonstrations -> mechanisms -> learned samplers.
+"""`python -m pdsketch_mech.learn extract|selfplay|train|evaluate`: demonstrations -> mechanisms -> learned samplers.
 
     extract DEMO [--name NAME] [--out FILE.pddl] [--render FILE.png] [--force]
         Segment the recording DEMO (NAME.npz, NAME.json or NAME) by contact modes, map the
@@ -9,11 +9,13 @@
         from what would be written is kept (exit 2, saying what differs) unless --force.
 
     selfplay NAME [--episodes N] [--seed S] [--workers K] [--out DIR] [--budget UNITS]
-                  [--time-limit S] [--fragment FILE] [--task TASK]
+                  [--time-limit S] [--fragment FILE] [--task TASK] [--split train|test]
         Self-play (paper Alg. 2) of mechanism NAME (domains/mechanisms/NAME.pddl) on train
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
         out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped.
+        --split test plays test instances instead (default DIR out/selfplay-test/NAME/):
+        data for `evaluate`; `train` refuses a folder of them.
     train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force] [--compare N]
         Self-play as above (only the episodes not on disk yet), then train a classifier per
         grasp, contact and placement parameter on every episode on disk, and write the
@@ -22,6 +24,11 @@
         the checkpoint. An existing checkpoint is replaced only with --force. --compare N then
         plans N test instances with the generic and the learned samplers and adds the table and
         the per-sampler breakdown (the paper's Fig. 8) to the report.
+    evaluate NAME [--data DIR] [--checkpoint FILE] [--fragment FILE] [--json FILE]
+        Score every proposal of the successful episodes in DIR (default
+        out/selfplay-test/NAME/) with the checkpoint's classifiers and print, per parameter
+        and for seen and held-out categories apart, how well the ranking finds the proposal
+        the plan used (AUC; its position best-first against a random order's).
 
 Exit status: 0 written (or already up to date), 1 the demonstration cannot be turned into a
 mechanism (e.g. cut off before its goal holds), no self-play episode succeeded, or no
@@ -37,17 +44,13 @@ import time
 from typing import List, Optional, Sequence
 
 from .cli import (
-    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit, seconds,
+    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, print_error, run_and_exit, seconds,
     seed, whole, write_text,
 )
-from .lang.errors import PddlError, escape
+from .lang.errors import PddlError
 
 NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
 
-
-def _fail(message: str, status: int = EXIT_BAD_INPUT) -> int:
-    print(escape(f"error: {message}"), file=sys.stderr)
-    return status
 
 
 def _parser() -> ArgumentParser:
@@ -59,8 +62,20 @@ def _parser() -> ArgumentParser:
     ext.add_argument("--out", metavar="FILE.pddl", help="where to write (default domains/mechanisms/NAME.pddl)")
     ext.add_argument("--render", metavar="FILE.png", help="draw the timeline under key frames")
     ext.add_argument("--force", action="store_true", help="replace an existing fragment that differs")
-    commands.add_parser("selfplay", parents=[_selfplay_options()],
-                        help="self-play data of mechanism NAME (labelled samples)")
+    play = commands.add_parser("selfplay", parents=[_selfplay_options()], add_help=False,
+                               help="self-play data of mechanism NAME (labelled samples)")
+    play.add_argument("-h", "--help", action="help", help="show this help message and exit")
+    play.add_argument("--split", choices=("train", "test"), default="train",
+                      help="the task's split the instances come from (default train; test: data for "
+                           "`evaluate`, in out/selfplay-test/NAME by default, never trained on)")
+    evaluate = commands.add_parser("evaluate", help="how well NAME's classifiers rank test-split self-play proposals")
+    evaluate.add_argument("name", metavar="NAME", help="the mechanism (domains/mechanisms/NAME.pddl)")
+    evaluate.add_argument("--data", metavar="DIR", help="self-play data (default out/selfplay-test/NAME, made by "
+                          "`selfplay NAME --split test`)")
+    evaluate.add_argument("--fragment", metavar="FILE", help="the mechanism's fragment (default "
+                          "domains/mechanisms/NAME.pddl)")
+    evaluate.add_argument("--checkpoint", metavar="FILE", help="the classifiers (default: the one the fragment names)")
+    evaluate.add_argument("--json", metavar="FILE", help="also write every episode's figures as JSON")
     train = commands.add_parser("train", parents=[_selfplay_options()], add_help=False,
                                 help="self-play, then train mechanism NAME's samplers -> checkpoint + report")
     train.add_argument("-h", "--help", action="help", help="show this help message and exit")
@@ -116,22 +131,22 @@ def extract_command(args) -> int:
     npz, js = recording_paths(args.demo)
     for path in (npz, js):
         if not os.path.isfile(path):
-            return _fail(f"{path}: no such file")
+            return fail(f"{path}: no such file")
     if args.name is not None and not NAME.match(args.name):
-        return _fail(f"--name {args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
+        return fail(f"--name {args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
     try:
         recording = load_recording(args.demo)
     except (ValueError, OSError, KeyError) as exc:
-        return _fail(f"{args.demo}: cannot read the recording: {exc}")
+        return fail(f"{args.demo}: cannot read the recording: {exc}")
     name = args.name or str(recording.header.get("task") or recording.header.get("name") or "")
     if not NAME.match(name):
-        return _fail(f"{args.demo}: no usable name in the recording ({name!r}); give --name")
+        return fail(f"{args.demo}: no usable name in the recording ({name!r}); give --name")
     default_out = os.path.join(MECHANISMS_DIR, f"{name}.pddl")
     out = args.out or default_out
     for error in (output_error(out, "--out", (npz, js), (".pddl",)),
                   output_error(args.render, "--render", (npz, js, out), (".png",))):
         if error is not None:
-            return _fail(error.message)
+            return fail(error.message)
     return _extract(args, recording, name, out, _command_line(npz, name, out, default_out))
 
 
@@ -144,15 +159,15 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
     try:
         extraction = extract(recording, name, args.demo)
     except ExtractionError as exc:
-        return _fail(f"{args.demo}: {exc}", EXIT_UNSOLVED)
+        return fail(f"{args.demo}: {exc}", EXIT_UNSOLVED)
     except (KeyError, ValueError, IndexError) as exc:
-        return _fail(f"{args.demo}: the recording is malformed ({type(exc).__name__}: {exc})")
+        return fail(f"{args.demo}: the recording is malformed ({type(exc).__name__}: {exc})")
     print(timeline_text(extraction))
     text = fragment_text(extraction, out, command, sampler=_named_sampler(out, name))
     try:
         fragment = check_fragment(text, out)
     except PddlError as exc:  # a bug, not the user's fault: say so plainly
-        return _fail(f"the extracted fragment does not check: {exc}")
+        return fail(f"the extracted fragment does not check: {exc}")
     status = "wrote"
     if os.path.exists(out):
         with open(out, encoding="utf-8") as handle:
@@ -161,7 +176,7 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
             status = "unchanged"
         elif not args.force:
             why = _what_differs(out, existing_text, text, fragment)
-            return _fail(f"{os.path.relpath(out)} exists and differs: {why} (use --force to replace it)")
+            return fail(f"{os.path.relpath(out)} exists and differs: {why} (use --force to replace it)")
     if status == "wrote":
         write_text(out, text)
     steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)
@@ -248,12 +263,12 @@ def train_command(args) -> int:
     config, out, mechanism = prepared
     checkpoint = args.checkpoint or checkpoint_for(config.fragment, mechanism.name)
     if not checkpoint.endswith(".safetensors"):
-        return _fail(f"--checkpoint {checkpoint}: the weights file's name must end in .safetensors")
+        return fail(f"--checkpoint {checkpoint}: the weights file's name must end in .safetensors")
     error = output_error(checkpoint, "--checkpoint", (config.fragment,), (".safetensors",))
     if error is not None:
-        return _fail(error.message)
+        return fail(error.message)
     if os.path.exists(checkpoint) and not args.force:
-        return _fail(f"{checkpoint} exists: --force replaces it (and its metadata and report)")
+        return fail(f"{checkpoint} exists: --force replaces it (and its metadata and report)")
     started = time.perf_counter()
     status = _selfplay(args, config, out)
     selfplay_s = time.perf_counter() - started
@@ -268,7 +283,7 @@ def train_command(args) -> int:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
                                  default_config(args.epochs, args.seed), open_folder(out, config.identity()), info)
     except StoreError as exc:
-        return _fail(str(exc))
+        return fail(str(exc))
     if trained and args.compare:
         _compare(mechanism.name, config, checkpoint, args.compare)
     return EXIT_OK if trained else EXIT_UNSOLVED
@@ -292,42 +307,44 @@ def _prepare_selfplay(args):
     from .learning.selfplay_store import StoreError, open_folder
 
     if args.backend == "ray" and importlib.util.find_spec("ray") is None:
-        return _fail("--backend ray: ray is not installed (pip install -e '.[ray]')")
+        return fail("--backend ray: ray is not installed (pip install -e '.[ray]')")
     if not NAME.match(args.name):
-        return _fail(f"{args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
+        return fail(f"{args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
     fragment = args.fragment or default_fragment(args.name)
     if not os.path.isfile(fragment):
-        return _fail(f"{fragment}: no such file" + ("" if args.fragment else f" (is {args.name} a mechanism?)"))
+        return fail(f"{fragment}: no such file" + ("" if args.fragment else f" (is {args.name} a mechanism?)"))
     try:
         mechanism = find_mechanism(_domain(os.path.abspath(fragment)), args.name)
     except PddlError as exc:
         print_error(exc)
         return EXIT_BAD_INPUT
     except ValueError as exc:
-        return _fail(str(exc))
+        return fail(str(exc))
     from .envs.tasks import TASKS
     task = args.task or task_of(fragment, args.name)
     if task is None:
-        return _fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "
+        return fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "
                      f"({', '.join(TASKS)})")
     if task not in TASKS:
-        return _fail(f"--task {task}: unknown task; tasks: {', '.join(TASKS)}")
-    out = args.out or os.path.join("out", "selfplay", args.name)
+        return fail(f"--task {task}: unknown task; tasks: {', '.join(TASKS)}")
+    split = getattr(args, "split", "train")  # `train` always plays the train split
+    out = args.out or os.path.join("out", "selfplay" if split == "train" else f"selfplay-{split}", args.name)
     if os.path.exists(out) and not os.path.isdir(out):
-        return _fail(f"--out {out}: is not a folder")
+        return fail(f"--out {out}: is not a folder")
     parent = os.path.dirname(os.path.abspath(out))
     if args.out is not None and not os.path.isdir(parent):
-        return _fail(f"--out {out}: folder {os.path.dirname(out) or '.'} does not exist")
-    config = SelfPlayConfig(mechanism.name, os.path.abspath(fragment), task, args.seed, args.budget, args.time_limit)
+        return fail(f"--out {out}: folder {os.path.dirname(out) or '.'} does not exist")
+    config = SelfPlayConfig(mechanism.name, os.path.abspath(fragment), task, args.seed, args.budget, args.time_limit,
+                            split)
     try:
         os.makedirs(out, exist_ok=True)
         open_folder(out, config.identity())
     except StoreError as exc:
-        return _fail(str(exc))
+        return fail(str(exc))
     except OSError as exc:
-        return _fail(f"--out {out}: cannot create: {exc.strerror}")
+        return fail(f"--out {out}: cannot create: {exc.strerror}")
     if not os.access(out, os.W_OK):
-        return _fail(f"--out {out}: is not writable")
+        return fail(f"--out {out}: is not writable")
     return config, out, mechanism
 
 
@@ -340,7 +357,8 @@ def _selfplay(args, config, out: str) -> int:
     todo = len(pending(out, args.episodes))
     counts = {"successes": 0, "samples": 0}
     command = " ".join(["python -m pdsketch_mech.learn selfplay", args.name, "--episodes", str(args.episodes),
-                        "--seed", str(args.seed), "--budget", str(args.budget)])
+                        "--seed", str(args.seed), "--budget", str(args.budget)]
+                       + (["--split", config.split] if config.split != "train" else []))
     with tqdm(total=todo, file=sys.stderr, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}") as bar:
         def progress(row) -> None:
             counts["successes"] += row["success"]
@@ -361,7 +379,10 @@ def _selfplay(args, config, out: str) -> int:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     args = _parser().parse_args(argv)
     if args.command is None:
-        return _fail("give a command: extract, selfplay, train")
+        return fail("give a command: extract, selfplay, train, evaluate")
+    if args.command == "evaluate":
+        from .learning.evaluate_command import evaluate_command
+        return evaluate_command(args)
     return {"extract": extract_command, "selfplay": selfplay_command, "train": train_command}[args.command](args)
 
 

@@ -22,10 +22,11 @@ from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
 from pdsketch_mech.samplers.learned.forward import NumpyClassifiers
 from pdsketch_mech.samplers.learned.pointnet import ball_query, farthest_points
 from pdsketch_mech.samplers.learned.ranked import RankedSampler, walk_order
-from pdsketch_mech.samplers.learned.specs import EncoderConfig, ParamSpec
+from pdsketch_mech.samplers.learned.specs import ParamSpec
+
+from learned_data import TINY, synthetic_episodes
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TINY = EncoderConfig(centres=(16, 4), radii=(0.4, 0.8), neighbours=8, widths1=(8, 16), widths2=(16, 16), out=16)
 
 
 def test_farthest_points_spread_out_and_ball_query_stays_inside():
@@ -42,32 +43,6 @@ def test_roc_auc():
     assert roc_auc(np.array([0.2, 0.9]), np.array([0, 1])) == 1.0
     assert roc_auc(np.array([0.5, 0.5]), np.array([0, 1])) == 0.5
     assert roc_auc(np.array([0.5, 0.5]), np.array([1, 1])) is None
-
-
-def synthetic_episodes(count: int, seed: int = 0):
-    """Episodes shaped like self-play's: a block's grasp proposals (object frame), which fail
-    verification when the gripper is on the block's -y side (y < -0.01) and are labelled 1
-    when it is on the +x half otherwise, then a placement whose parent is the grasp."""
-    rng = np.random.default_rng(seed)
-    episodes = []
-    for e in range(count):
-        n = 12
-        value = np.full((n + 1, 16), np.nan)
-        value[:n, :8] = np.c_[rng.uniform(-0.03, 0.03, (n, 3)), np.tile([0, 0, 0, 1.0], (n, 1)), np.full(n, 0.05)]
-        value[n, :7] = [0.5, 0.0, 0.1, 0, 0, 0, 1]
-        verified = np.r_[(value[:n, 1] >= -0.01).astype(np.int8), 1]
-        label = np.r_[((value[:n, 0] > 0) & (verified[:n] > 0)).astype(np.int8), 1]
-        parents = np.full((n + 1, 12), -1)
-        parents[n, 0] = int(np.flatnonzero(label[:n])[0]) if label[:n].any() else 0
-        episodes.append({
-            "episode_id": np.array([e]), "episode_objects": np.array([["block", "table"]]),
-            "episode_assets": np.array([["block/0", "table"]]), "episode_scales": np.array([[1.0, 1.0]]),
-            "kind": np.array(["grasp"] * n + ["placement"]), "param": np.array(["?g"] * n + ["?p"]),
-            "param_index": np.array([3] * n + [4]), "value": value, "parents": parents, "label": label,
-            "proposal": value, "verified": verified, "episode_success": np.array([bool(label[:n].any())]),
-            "poses": np.tile(np.array([[0.5, 0.0, 0.03, 0, 0, 0, 1], [0.6, 0, 0, 0, 0, 0, 1]]), (n + 1, 1, 1)),
-        })
-    return episodes
 
 
 def test_training_learns_which_grasps_succeed():

@@ -43,13 +43,6 @@ class Trial:
         return sum(self.simulated.values())
 
 
-def held_out_categories(task_name: str, instance) -> bool:
-    from ..envs.tasks import TASKS
-    task = TASKS[task_name]
-    seen = {a.split("/")[0] for spec in task.objects for a in spec.assets.train}
-    return any(o.asset.split("/")[0] not in seen for o in instance.objects if not o.name.startswith("d"))
-
-
 def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed: int, timeout: float,
                  keep: Optional[str] = None, progress: bool = True, workers: int = 1) -> List[Trial]:
     """Every instance planned by both methods, `workers` plans at a time (each its own
@@ -62,7 +55,7 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
         jobs = []
         for k in range(instances):
             instance = sample(TASKS[task_name], split, seed + k)
-            held = held_out_categories(task_name, instance)
+            held = instance.held_out
             jobs += [(held, Job(task_name, method, k, instance.name, instance.problem_text(), fragment, (), 0, timeout))
                      for method in METHODS]
 

@@ -76,6 +76,14 @@ class Instance:
     def object(self, name: str) -> Placed:
         return next(o for o in self.objects if o.name == name)
 
+    @property
+    def held_out(self) -> bool:
+        """Whether an object the task names (distractors aside) is of a category its train
+        split never shows: what learned samplers must generalise to."""
+        seen = {a.split("/")[0] for spec in self.task.objects for a in spec.assets.train}
+        named = {spec.name for spec in self.task.objects}
+        return any(o.asset.split("/")[0] not in seen for o in self.objects if o.name in named)
+
     def command(self) -> str:
         """The command line that regenerates this instance."""
         if self.seed is None:

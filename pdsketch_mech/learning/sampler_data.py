@@ -113,9 +113,11 @@ def parent_specs(episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[str, ParamSp
             for var, kind in sorted(kinds.items(), key=lambda kv: order[kv[0]])}
 
 
-def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed: int = 0) -> ParamData:
-    """The rows of `spec`'s parameter across the episodes (rejected proposals subsampled
-    beyond REJECTED_CAP per value, by `seed`)."""
+def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed: int = 0,
+               subsample: bool = True) -> ParamData:
+    """The rows of `spec`'s parameter across the episodes, in the order they were drawn
+    (rejected proposals subsampled beyond REJECTED_CAP per value, by `seed`, unless not
+    `subsample`: evaluation scores every proposal)."""
     urdf_ids: Dict[str, int] = {}
     cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "poses", "label", "episode",
                                              "verified", "success")}
@@ -144,7 +146,8 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
             cols["verified"].append(int(ep["verified"][row]) if "verified" in ep else 1)
             cols["success"].append(float(ep["episode_success"][0]))
     verified = np.asarray(cols["verified"], dtype=np.float32)
-    keep, weight = _subsample_rejected(verified, seed)
+    keep, weight = _subsample_rejected(verified, seed) if subsample else (np.arange(len(verified)),
+                                                                          np.ones(len(verified), np.float32))
     cols = {k: [v[i] for i in keep] for k, v in cols.items()}
     parent_rows = [[r[i] for i in keep] for r in parent_rows]
     n = len(cols["label"])
@@ -157,6 +160,19 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
                      f32(cols["poses"], (n, m, 7)), np.asarray(cols["label"], dtype=np.float32),
                      np.asarray(cols["episode"], dtype=np.int64), verified[keep],
                      np.asarray(cols["success"], dtype=np.float32), weight[keep])
+
+
+def context_groups(data: ParamData) -> np.ndarray:
+    """(n,) a group id per row: rows drawn in one context (the objects' poses and the parents'
+    values alike) share one. Whether a value is "used" means something only against the
+    other values of its context: across contexts a classifier learns to tell a context that
+    led to success (the box already pulled close) from one that did not, which no sampler is
+    ever asked to do."""
+    parts = [data.poses.reshape(len(data), -1)] + [p * data.present[:, k:k + 1] for k, p in enumerate(data.parents)]
+    if not len(data):
+        return np.zeros(0, dtype=np.int64)
+    keys = np.round(np.concatenate(parts, axis=1), 5)
+    return np.unique(keys, axis=0, return_inverse=True)[1].reshape(-1)
 
 
 def _subsample_rejected(verified: np.ndarray, seed: int) -> Tuple[np.ndarray, np.ndarray]:

@@ -1,6 +1,6 @@
 """Self-play (paper Alg. 2): one episode of a mechanism on one instance of its task.
 
-An episode draws a train-split instance of the task (distractors included), grounds the
+An episode draws a train-split instance of the task (a test-split one for evaluation data) (distractors included), grounds the
 mechanism on a random choice of the objects present whose precondition holds symbolically
 (the learner is not told which object plays which role), fixes the skeleton to the
 mechanism's steps and runs the continuous search with the generic samplers under a budget.
@@ -51,11 +51,12 @@ class SelfPlayConfig:
     seed: int = 0           # the base seed: episode i uses seeds derived from (seed, i)
     budget: int = 400       # work units per episode (samples drawn and simulated, samplers running dry)
     time_limit: float = 300.0  # seconds per episode, a safety net (hitting it is recorded)
+    split: str = "train"    # "test": data to evaluate classifiers on (`learn evaluate`), never to train
 
     def identity(self) -> Dict[str, object]:
         """What must match for two runs to write into the same folder."""
         return {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
-                "time_limit": self.time_limit}
+                "time_limit": self.time_limit, "split": self.split}
 
 
 def episode_seeds(base: int, episode: int) -> Tuple[int, int]:
@@ -105,7 +106,7 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
     rng = np.random.default_rng(planner_seed)
     loaded = _domain(config.fragment)
     mechanism = find_mechanism(loaded, config.mechanism)
-    instance = sample_instance(TASKS[config.task], "train", instance_seed)
+    instance = sample_instance(TASKS[config.task], config.split, instance_seed)
     problem = parse_text(instance.problem_text(), file=f"<{instance.name}>")
     assert isinstance(problem, Problem)
     task, placeholders = prepare_task(loaded, problem, use_mechanisms=True)

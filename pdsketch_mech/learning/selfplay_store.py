@@ -70,7 +70,7 @@ def open_folder(folder: str, identity: Dict[str, object]) -> Dict[str, object]:
             raise StoreError(f"{path}: self-play data of another format ({found}, this version writes {SCHEMA}); "
                              "use another --out" if isinstance(found, str) and found.startswith("pdsketch_mech.selfplay/")
                              else f"{path}: not a self-play manifest ({SCHEMA})")
-        theirs = manifest.get("config", {})
+        theirs = {"split": "train", **manifest.get("config", {})}  # folders older than --split hold train data
         differs = [f"{k} {theirs.get(k)!r} (this run: {v!r})" for k, v in identity.items() if theirs.get(k) != v]
         if differs:
             raise StoreError(f"{folder} holds self-play data of another configuration: " + ", ".join(differs)

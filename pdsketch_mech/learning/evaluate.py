@@ -1,0 +1,150 @@
+"""How well a checkpoint's classifiers rank proposals of self-play episodes they never saw.
+
+`learn selfplay NAME --split test` plays the task's test split (held-out objects and
+categories included) with the generic samplers; `learn evaluate NAME` then scores, for every
+successful episode and every parameter with a classifier, each proposal the generic sampler
+drew as planning would (the calibrated log P(verifies and is used)) and compares the ranking
+with the proposal(s) the successful plan used:
+
+    AUC        the chance that a used proposal outranks an unused one drawn in the same
+               context (0.5: no better than the generic sampler's random order)
+    position   how many proposals a best-first walk verifies up to the first used one
+    random     the same for a random order: (n + 1) / (k + 1), k used among n proposals
+    gain       random / position per episode (above 1: the classifier saves verifications)
+
+Figures are medians over episodes, seen and held-out categories apart. Unlike a planner
+comparison (bench samplers), nothing here depends on time, load or the order in which a
+search happens to backtrack: two checkpoints are compared on the very same proposals. The
+labels undercount good proposals (self-play stops at its first success; another proposal
+might have worked too), so the figures are lower bounds on what ranking is worth.
+"""
+from __future__ import annotations
+
+import json
+import os
+import statistics
+from dataclasses import asdict, dataclass
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ..envs.generate import sample
+from ..envs.tasks import TASKS
+from .sampler_data import context_groups, param_data
+from .sampler_training import roc_auc, to_batch
+from .selfplay_store import StoreError
+
+GROUPS = ("seen categories", "held-out categories", "all")
+CHUNK = 4096  # rows scored per forward pass
+
+
+@dataclass
+class EpisodeScore:
+    episode: int
+    held_out: bool
+    proposals: int
+    used: int
+    auc: Optional[float]
+    position: int          # 1-based rank of the best-ranked used proposal
+    random: float          # a random order's expected position of the first used proposal
+
+    @property
+    def gain(self) -> float:
+        return self.random / self.position
+
+
+@dataclass
+class ParamEvaluation:
+    variable: str
+    kind: str
+    group: str
+    episodes: int          # contexts ranked (one or more per episode)
+    median_auc: Optional[float]
+    median_position: Optional[float]
+    median_random: Optional[float]
+    median_gain: Optional[float]
+
+
+def data_config(folder: str) -> Dict[str, object]:
+    """The self-play configuration a data folder's manifest records (its split "train" if
+    the folder predates splits)."""
+    path = os.path.join(folder, "manifest.json")
+    try:
+        with open(path, encoding="utf-8") as handle:
+            return {"split": "train", **json.load(handle)["config"]}
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise StoreError(f"{path}: cannot read the self-play configuration: {exc}") from None
+
+
+def held_out_episodes(folder: str, episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[int, bool]:
+    """Episode id -> whether its instance shows a category the task's train split never does."""
+    config = data_config(folder)
+    task, split = TASKS[str(config["task"])], str(config["split"])
+    return {int(ep["episode_id"][0]): sample(task, split, int(ep["episode_instance_seed"][0])).held_out
+            for ep in episodes}
+
+
+def score_episodes(model, episodes: Sequence[Dict[str, np.ndarray]],
+                   held_out: Dict[int, bool]) -> Dict[str, List[EpisodeScore]]:
+    """Per parameter with a classifier: one EpisodeScore per context (`context_groups`) of a
+    successful episode in which the parameter had both a used and an unused proposal."""
+    import torch
+    out: Dict[str, List[EpisodeScore]] = {}
+    for variable, spec in model.specs.items():
+        data = param_data(episodes, spec, subsample=False)
+        if not len(data):
+            continue
+        clouds = torch.from_numpy(data.clouds())
+        classifier = model.classifier(variable)
+        with torch.no_grad():
+            scores = np.concatenate([classifier.log_score(to_batch(data, np.arange(i, min(i + CHUNK, len(data))),
+                                                                   clouds)).numpy()
+                                     for i in range(0, len(data), CHUNK)])
+        groups = context_groups(data)
+        rows: List[EpisodeScore] = []
+        for episode in np.unique(data.episode):
+            for group in np.unique(groups[data.episode == episode]):
+                mine = np.flatnonzero((data.episode == episode) & (groups == group) & (data.success > 0.5))
+                labels = data.label[mine]
+                used = int(labels.sum())
+                if not used or used == len(mine):
+                    continue
+                top_used = scores[mine][labels > 0.5].max()
+                rows.append(EpisodeScore(int(episode), held_out[int(episode)], len(mine), used,
+                                         roc_auc(scores[mine], labels), 1 + int((scores[mine] > top_used).sum()),
+                                         (len(mine) + 1) / (used + 1)))
+        out[variable] = rows
+    return out
+
+
+def _median(values: List[float]) -> Optional[float]:
+    return float(statistics.median(values)) if values else None
+
+
+def summarise(model, scored: Dict[str, List[EpisodeScore]]) -> List[ParamEvaluation]:
+    """Medians per parameter and group (seen categories, held-out categories, all)."""
+    out = []
+    for variable, rows in scored.items():
+        for group in GROUPS:
+            mine = [r for r in rows if group == "all" or r.held_out == (group == "held-out categories")]
+            out.append(ParamEvaluation(variable, model.specs[variable].kind, group, len(mine),
+                                       _median([r.auc for r in mine if r.auc is not None]),
+                                       _median([r.position for r in mine]), _median([r.random for r in mine]),
+                                       _median([r.gain for r in mine])))
+    return out
+
+
+def markdown(rows: List[ParamEvaluation]) -> str:
+    """The evaluation as a markdown table."""
+    fmt = lambda v, d=2: "-" if v is None else f"{v:.{d}f}"  # noqa: E731
+    lines = ["| parameter | kind | contexts ranked | median AUC | median position (learned) | median position (random) "
+             "| median gain |", "| :--- | :--- | :--- | ---: | ---: | ---: | ---: |"]
+    lines += [f"| {r.variable} | {r.kind} | {r.group}: {r.episodes} | {fmt(r.median_auc)} | "
+              f"{fmt(r.median_position, 1)} | {fmt(r.median_random, 1)} | {fmt(r.median_gain)} |" for r in rows
+              if r.episodes or r.group == "all"]
+    return "\n".join(lines) + "\n"
+
+
+def as_json(rows: List[ParamEvaluation], scored: Dict[str, List[EpisodeScore]], info: Dict[str, object]) -> dict:
+    return {**info, "summary": [asdict(r) for r in rows],
+            "episodes": {v: [{**asdict(r), "gain": r.gain} for r in rs] for v, rs in scored.items()}}
