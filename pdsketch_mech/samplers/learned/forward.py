@@ -2,7 +2,7 @@
 
 Importing torch costs 1.4-2.8 s on this machine, more than a whole Center-of-Mass plan with
 learned samplers spends ranking. The network is small (a PointNet++ encoder run once per shape,
-then MLPs over batches of 64 proposals), so numpy runs it in a few milliseconds. The weights
+then MLPs over batches of 16 proposals), so numpy runs it in a few milliseconds. The weights
 are the checkpoint's tensors under the names torch gave them (model.py, pointnet.py define
 the layout); tests check that both passes give the same scores.
 """
