@@ -44,8 +44,7 @@ import time
 from typing import List, Optional, Sequence
 
 from .cli import (
-    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, print_error, run_and_exit, seconds,
-    seed, whole, write_text,
+    EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, run_and_exit, seconds, seed, whole, write_text,
 )
 from .lang.errors import PddlError
 
@@ -303,23 +302,18 @@ def _compare(name: str, config, checkpoint: str, instances: int) -> None:
 
 def _prepare_selfplay(args):
     """(config, data folder, mechanism) for `selfplay` and `train`, or an exit status."""
-    from .learning.selfplay import SelfPlayConfig, default_fragment, find_mechanism, task_of, _domain
+    from .learning.selfplay import SelfPlayConfig, task_of
     from .learning.selfplay_store import StoreError, open_folder
 
     if args.backend == "ray" and importlib.util.find_spec("ray") is None:
         return fail("--backend ray: ray is not installed (pip install -e '.[ray]')")
     if not NAME.match(args.name):
         return fail(f"{args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
-    fragment = args.fragment or default_fragment(args.name)
-    if not os.path.isfile(fragment):
-        return fail(f"{fragment}: no such file" + ("" if args.fragment else f" (is {args.name} a mechanism?)"))
-    try:
-        mechanism = find_mechanism(_domain(os.path.abspath(fragment)), args.name)
-    except PddlError as exc:
-        print_error(exc)
-        return EXIT_BAD_INPUT
-    except ValueError as exc:
-        return fail(str(exc))
+    from .learning.train_command import fragment_mechanism
+    found = fragment_mechanism(args.name, args.fragment)
+    if isinstance(found, int):
+        return found
+    fragment, mechanism = found
     from .envs.tasks import TASKS
     task = args.task or task_of(fragment, args.name)
     if task is None:

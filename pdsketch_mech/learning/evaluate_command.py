@@ -9,9 +9,7 @@ from __future__ import annotations
 import os
 import sys
 
-from ..cli import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, fail, output_error, print_error, write_json
-from ..lang.errors import PddlError
-
+from ..cli import EXIT_OK, EXIT_UNSOLVED, fail, output_error, write_json
 
 
 def evaluate_command(args) -> int:
@@ -19,13 +17,13 @@ def evaluate_command(args) -> int:
     from ..samplers.learned.ranked import checkpoint_path
     from .evaluate import as_json, data_config, held_out_episodes, markdown, score_episodes, summarise
     from .sampler_data import read_episodes
-    from .selfplay import _domain, default_fragment, find_mechanism
     from .selfplay_store import StoreError
-    from .train_command import shown
+    from .train_command import fragment_mechanism, shown
 
-    fragment = args.fragment or default_fragment(args.name)
-    if not os.path.isfile(fragment):
-        return fail(f"{fragment}: no such file" + ("" if args.fragment else f" (is {args.name} a mechanism?)"))
+    found = fragment_mechanism(args.name, args.fragment)
+    if isinstance(found, int):
+        return found
+    fragment, mechanism = found
     data = args.data or os.path.join("out", "selfplay-test", args.name)
     if not os.path.isdir(data):
         hint = "" if args.data else f" (make it with `python -m pdsketch_mech.learn selfplay {args.name} --split test`)"
@@ -34,13 +32,6 @@ def evaluate_command(args) -> int:
         error = output_error(args.json, "--json", (fragment,), (".json",))
         if error is not None:
             return fail(error.message)
-    try:
-        mechanism = find_mechanism(_domain(os.path.abspath(fragment)), args.name)
-    except PddlError as exc:
-        print_error(exc)
-        return EXIT_BAD_INPUT
-    except ValueError as exc:
-        return fail(str(exc))
     if args.checkpoint is None and not mechanism.sampler:
         return fail(f"{fragment}: mechanism {args.name} names no learned sampler; give --checkpoint")
     checkpoint = args.checkpoint or checkpoint_path(mechanism)

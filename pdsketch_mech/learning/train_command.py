@@ -15,9 +15,10 @@ import os
 import sys
 import time
 from dataclasses import replace
-from typing import Dict, Optional
+from typing import TYPE_CHECKING, Dict, Optional, Tuple, Union
 
-from ..cli import write_text
+from ..cli import EXIT_BAD_INPUT, fail, print_error, write_text
+from ..lang.errors import PddlError
 from ..lang.nodes import Domain
 from ..lang.parser import parse_file
 from ..lang.writer import write_domain
@@ -26,11 +27,30 @@ from .sampler_data import parent_specs, read_episodes
 from .sampler_report import write_report
 from .sampler_training import TrainConfig, train_mechanism
 
+if TYPE_CHECKING:
+    from ..lang.nodes import Mechanism
+
 
 def shown(path: str) -> str:
     """A path as the user would type it: relative inside the working folder, else absolute."""
     full = os.path.abspath(path)
     return os.path.relpath(full) if full.startswith(os.getcwd() + os.sep) else full
+
+
+def fragment_mechanism(name: str, fragment: Optional[str]) -> Union[Tuple[str, "Mechanism"], int]:
+    """(the fragment: given, or domains/mechanisms/NAME.pddl; its mechanism NAME), or the exit
+    status after one error line when the file or the mechanism is missing or does not parse."""
+    from .selfplay import _domain, default_fragment, find_mechanism
+    path = fragment or default_fragment(name)
+    if not os.path.isfile(path):
+        return fail(f"{path}: no such file" + ("" if fragment else f" (is {name} a mechanism?)"))
+    try:
+        return path, find_mechanism(_domain(os.path.abspath(path)), name)
+    except PddlError as exc:
+        print_error(exc)
+        return EXIT_BAD_INPUT
+    except ValueError as exc:
+        return fail(str(exc))
 
 
 def checkpoint_for(fragment: str, name: str) -> str:
