@@ -73,7 +73,7 @@ def record(args) -> int:
         return fail(f"demo {args.name} ({instance.name}) failed: {result.error}", EXIT_UNSOLVED)
     if not result.goal_reached:
         return fail(f"demo {args.name} ({instance.name}): the goal {task.goal} does not hold at the end; "
-                     f"contacts: {result.facts_text()}", EXIT_UNSOLVED)
+                    f"contacts: {result.facts_text()}", EXIT_UNSOLVED)
     header = result.extra["header"]
     header.update({
         "name": stem,

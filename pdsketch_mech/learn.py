@@ -51,7 +51,6 @@ from .lang.errors import PddlError
 NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
 
 
-
 def _parser() -> ArgumentParser:
     parser = ArgumentParser(prog="python -m pdsketch_mech.learn", description=__doc__.split("\n\n")[0])
     commands = parser.add_subparsers(dest="command", parser_class=ArgumentParser)
@@ -318,7 +317,7 @@ def _prepare_selfplay(args):
     task = args.task or task_of(fragment, args.name)
     if task is None:
         return fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "
-                     f"({', '.join(TASKS)})")
+                    f"({', '.join(TASKS)})")
     if task not in TASKS:
         return fail(f"--task {task}: unknown task; tasks: {', '.join(TASKS)}")
     split = getattr(args, "split", "train")  # `train` always plays the train split

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pdsketch_mech import learn
-from pdsketch_mech.learning.evaluate import EpisodeScore, score_episodes, summarise
+from pdsketch_mech.learning.evaluate import ContextScore, score_episodes, summarise
 from pdsketch_mech.learning.sampler_training import TrainConfig, train_mechanism
 
 from learned_data import TINY, synthetic_episodes
@@ -26,12 +26,12 @@ def test_a_classifier_that_learned_the_rule_finds_the_used_grasp_sooner_than_ran
     held_out = {int(ep["episode_id"][0]): int(ep["episode_id"][0]) % 3 == 0 for ep in fresh}
     scored = score_episodes(trained, fresh, held_out)
     grasps = scored["?g"]
-    assert grasps and all(isinstance(r, EpisodeScore) for r in grasps)
+    assert grasps and all(isinstance(r, ContextScore) for r in grasps)
     assert np.median([r.auc for r in grasps]) > 0.9
     assert np.median([r.gain for r in grasps]) > 1.5            # the used grasp comes well before random order's
     assert all(r.position <= r.proposals - r.used + 1 for r in grasps)
     rows = {(r.variable, r.group): r for r in summarise(trained, scored)}
-    groups = [rows[("?g", g)].episodes for g in ("seen categories", "held-out categories", "all")]
+    groups = [rows[("?g", g)].contexts for g in ("seen categories", "held-out categories", "all")]
     assert groups[0] + groups[1] == groups[2] == len(grasps) and groups[1] == sum(r.held_out for r in grasps)
 
 

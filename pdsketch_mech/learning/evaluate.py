@@ -20,7 +20,6 @@ might have worked too), so the figures are lower bounds on what ranking is worth
 """
 from __future__ import annotations
 
-import json
 import os
 import statistics
 from dataclasses import asdict, dataclass
@@ -32,14 +31,16 @@ from ..envs.generate import sample
 from ..envs.tasks import TASKS
 from .sampler_data import context_groups, param_data
 from .sampler_training import roc_auc, to_batch
-from .selfplay_store import StoreError
+from .selfplay_store import StoreError, read_manifest
 
 GROUPS = ("seen categories", "held-out categories", "all")
 CHUNK = 4096  # rows scored per forward pass
 
 
 @dataclass
-class EpisodeScore:
+class ContextScore:
+    """How one context's proposals for a parameter were ranked."""
+
     episode: int
     held_out: bool
     proposals: int
@@ -58,7 +59,7 @@ class ParamEvaluation:
     variable: str
     kind: str
     group: str
-    episodes: int          # contexts ranked (one or more per episode)
+    contexts: int          # contexts ranked (one or more per episode)
     median_auc: Optional[float]
     median_position: Optional[float]
     median_random: Optional[float]
@@ -66,14 +67,11 @@ class ParamEvaluation:
 
 
 def data_config(folder: str) -> Dict[str, object]:
-    """The self-play configuration a data folder's manifest records (its split "train" if
-    the folder predates splits)."""
-    path = os.path.join(folder, "manifest.json")
-    try:
-        with open(path, encoding="utf-8") as handle:
-            return {"split": "train", **json.load(handle)["config"]}
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise StoreError(f"{path}: cannot read the self-play configuration: {exc}") from None
+    """The self-play configuration a data folder's manifest records."""
+    manifest = read_manifest(folder)
+    if manifest is None:
+        raise StoreError(f"{os.path.join(folder, 'manifest.json')}: no such file (not a self-play folder)")
+    return manifest["config"]
 
 
 def held_out_episodes(folder: str, episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[int, bool]:
@@ -85,11 +83,11 @@ def held_out_episodes(folder: str, episodes: Sequence[Dict[str, np.ndarray]]) ->
 
 
 def score_episodes(model, episodes: Sequence[Dict[str, np.ndarray]],
-                   held_out: Dict[int, bool]) -> Dict[str, List[EpisodeScore]]:
-    """Per parameter with a classifier: one EpisodeScore per context (`context_groups`) of a
+                   held_out: Dict[int, bool]) -> Dict[str, List[ContextScore]]:
+    """Per parameter with a classifier: one ContextScore per context (`context_groups`) of a
     successful episode in which the parameter had both a used and an unused proposal."""
     import torch
-    out: Dict[str, List[EpisodeScore]] = {}
+    out: Dict[str, List[ContextScore]] = {}
     for variable, spec in model.specs.items():
         data = param_data(episodes, spec, subsample=False)
         if not len(data):
@@ -100,28 +98,35 @@ def score_episodes(model, episodes: Sequence[Dict[str, np.ndarray]],
             scores = np.concatenate([classifier.log_score(to_batch(data, np.arange(i, min(i + CHUNK, len(data))),
                                                                    clouds)).numpy()
                                      for i in range(0, len(data), CHUNK)])
-        groups = context_groups(data)
-        rows: List[EpisodeScore] = []
-        for episode in np.unique(data.episode):
-            for group in np.unique(groups[data.episode == episode]):
-                mine = np.flatnonzero((data.episode == episode) & (groups == group) & (data.success > 0.5))
-                labels = data.label[mine]
-                used = int(labels.sum())
-                if not used or used == len(mine):
-                    continue
-                top_used = scores[mine][labels > 0.5].max()
-                rows.append(EpisodeScore(int(episode), held_out[int(episode)], len(mine), used,
-                                         roc_auc(scores[mine], labels), 1 + int((scores[mine] > top_used).sum()),
-                                         (len(mine) + 1) / (used + 1)))
+        rows: List[ContextScore] = []
+        for mine in _contexts(data):
+            labels = data.label[mine]
+            used = int(labels.sum())
+            if not used or used == len(mine):
+                continue
+            episode = int(data.episode[mine[0]])
+            top_used = scores[mine][labels > 0.5].max()
+            rows.append(ContextScore(episode, held_out[episode], len(mine), used, roc_auc(scores[mine], labels),
+                                     1 + int((scores[mine] > top_used).sum()), (len(mine) + 1) / (used + 1)))
         out[variable] = rows
     return out
+
+
+def _contexts(data) -> List[np.ndarray]:
+    """The rows of the successful episodes, one array per (episode, context), in drawn order."""
+    rows = np.flatnonzero(data.success > 0.5)
+    keys = np.c_[data.episode[rows], context_groups(data)[rows]]
+    _, key = np.unique(keys, axis=0, return_inverse=True)
+    order = np.argsort(key.reshape(-1), kind="stable")
+    cuts = np.flatnonzero(np.diff(key.reshape(-1)[order])) + 1
+    return [rows[part] for part in np.split(order, cuts)] if len(rows) else []
 
 
 def _median(values: List[float]) -> Optional[float]:
     return float(statistics.median(values)) if values else None
 
 
-def summarise(model, scored: Dict[str, List[EpisodeScore]]) -> List[ParamEvaluation]:
+def summarise(model, scored: Dict[str, List[ContextScore]]) -> List[ParamEvaluation]:
     """Medians per parameter and group (seen categories, held-out categories, all)."""
     out = []
     for variable, rows in scored.items():
@@ -139,12 +144,12 @@ def markdown(rows: List[ParamEvaluation]) -> str:
     fmt = lambda v, d=2: "-" if v is None else f"{v:.{d}f}"  # noqa: E731
     lines = ["| parameter | kind | contexts ranked | median AUC | median position (learned) | median position (random) "
              "| median gain |", "| :--- | :--- | :--- | ---: | ---: | ---: | ---: |"]
-    lines += [f"| {r.variable} | {r.kind} | {r.group}: {r.episodes} | {fmt(r.median_auc)} | "
+    lines += [f"| {r.variable} | {r.kind} | {r.group}: {r.contexts} | {fmt(r.median_auc)} | "
               f"{fmt(r.median_position, 1)} | {fmt(r.median_random, 1)} | {fmt(r.median_gain)} |" for r in rows
-              if r.episodes or r.group == "all"]
+              if r.contexts or r.group == "all"]
     return "\n".join(lines) + "\n"
 
 
-def as_json(rows: List[ParamEvaluation], scored: Dict[str, List[EpisodeScore]], info: Dict[str, object]) -> dict:
+def as_json(rows: List[ParamEvaluation], scored: Dict[str, List[ContextScore]], info: Dict[str, object]) -> dict:
     return {**info, "summary": [asdict(r) for r in rows],
-            "episodes": {v: [{**asdict(r), "gain": r.gain} for r in rs] for v, rs in scored.items()}}
+            "contexts": {v: [{**asdict(r), "gain": r.gain} for r in rs] for v, rs in scored.items()}}

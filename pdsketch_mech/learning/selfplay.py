@@ -1,9 +1,10 @@
 """Self-play (paper Alg. 2): one episode of a mechanism on one instance of its task.
 
-An episode draws a train-split instance of the task (a test-split one for evaluation data) (distractors included), grounds the
-mechanism on a random choice of the objects present whose precondition holds symbolically
-(the learner is not told which object plays which role), fixes the skeleton to the
-mechanism's steps and runs the continuous search with the generic samplers under a budget.
+An episode draws a train-split instance of the task (a test-split one for evaluation data;
+distractors included), grounds the mechanism on a random choice of the objects present
+whose precondition holds symbolically (the learner is not told which object plays which
+role), fixes the skeleton to the mechanism's steps and runs the continuous search with the
+generic samplers under a budget.
 Every value drawn, and every proposal that failed verification, is logged
 (selfplay_record.py) and labelled 1 if the successful plan used it, 0 otherwise.
 

@@ -55,22 +55,32 @@ def read_episode(folder: str, episode: int) -> Dict[str, np.ndarray]:
         return {k: data[k] for k in data.files}
 
 
+def read_manifest(folder: str) -> Optional[Dict[str, object]]:
+    """The manifest of `folder` (None if it has none), its configuration's split "train" when
+    the folder predates splits; StoreError if it cannot be read or is not self-play's."""
+    path = os.path.join(folder, "manifest.json")
+    if not os.path.exists(path):
+        return None
+    try:
+        with open(path, encoding="utf-8") as handle:
+            manifest = json.load(handle)
+    except (OSError, ValueError) as exc:
+        raise StoreError(f"{path}: cannot read the manifest: {exc}") from None
+    if not isinstance(manifest, dict) or manifest.get("schema") != SCHEMA:
+        found = manifest.get("schema") if isinstance(manifest, dict) else None
+        raise StoreError(f"{path}: self-play data of another format ({found}, this version writes {SCHEMA}); "
+                         "use another --out" if isinstance(found, str) and found.startswith("pdsketch_mech.selfplay/")
+                         else f"{path}: not a self-play manifest ({SCHEMA})")
+    manifest["config"] = {"split": "train", **manifest.get("config", {})}
+    return manifest
+
+
 def open_folder(folder: str, identity: Dict[str, object]) -> Dict[str, object]:
     """The manifest of `folder` for a run of `identity` (a new one if there is none);
     StoreError if the folder holds another configuration's data."""
-    path = os.path.join(folder, "manifest.json")
-    if os.path.exists(path):
-        try:
-            with open(path, encoding="utf-8") as handle:
-                manifest = json.load(handle)
-        except (OSError, ValueError) as exc:
-            raise StoreError(f"{path}: cannot read the manifest: {exc}") from None
-        if manifest.get("schema") != SCHEMA:
-            found = manifest.get("schema")
-            raise StoreError(f"{path}: self-play data of another format ({found}, this version writes {SCHEMA}); "
-                             "use another --out" if isinstance(found, str) and found.startswith("pdsketch_mech.selfplay/")
-                             else f"{path}: not a self-play manifest ({SCHEMA})")
-        theirs = {"split": "train", **manifest.get("config", {})}  # folders older than --split hold train data
+    manifest = read_manifest(folder)
+    if manifest is not None:
+        theirs = manifest["config"]
         differs = [f"{k} {theirs.get(k)!r} (this run: {v!r})" for k, v in identity.items() if theirs.get(k) != v]
         if differs:
             raise StoreError(f"{folder} holds self-play data of another configuration: " + ", ".join(differs)
