@@ -115,3 +115,48 @@ def test_the_planner_finds_the_unreachable_box_dead_and_defers_what_grasps_it_fi
     died = stats["dead_steps"]["(grasp target table)"]
     late = [e["skeleton"] for e in stats["skeleton_log"] if e["created_s"] > died]
     assert late and not any(s.startswith("(grasp target table") for s in late)
+
+
+class _DryFirst:
+    """A step sampler whose first `dry` visits find nothing, as a stochastic grasp sampler
+    sometimes does on a thin object."""
+
+    def __init__(self, dry: int):
+        self.dry, self.visits = dry, 0
+
+    def samples(self, world, step, rng, parents):
+        self.visits += 1
+        if self.visits <= self.dry:
+            return iter(())
+        return iter([{"#g1": "a grasp"}])
+
+    def note_simulated(self, values):
+        pass
+
+
+def _refinement(sampler, memo):
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from pdsketch_mech.planner.refine import Refinement
+    world = SimpleNamespace(restore=lambda snapshot: None)
+    steps = [_step("grasp", "spoon", "table", "#g1")]
+    return Refinement(steps, start=None, world=world, task=SimpleNamespace(fact_ids={}), sampler=sampler,
+                      rng=np.random.default_rng(0), pristine=pristine_keys(steps, {"table"}), memo=memo)
+
+
+def test_one_dry_visit_of_the_first_step_does_not_end_a_skeleton_until_the_step_is_dead():
+    lucky = _refinement(_DryFirst(dry=1), PristineFailures())
+    assert lucky.run(deadline=float("inf"), max_work=1) is None and not lucky.exhausted
+    # never feasible: dead after DEAD_AFTER dry visits, and only then is the skeleton over
+    memo = PristineFailures()
+    hopeless = _refinement(_DryFirst(dry=10 ** 6), memo)
+    for visit in range(1, DEAD_AFTER + 1):
+        hopeless.run(deadline=float("inf"), max_work=1)
+        assert hopeless.exhausted == (visit == DEAD_AFTER)
+    assert ("grasp", ("spoon", "table")) in memo.dead
+    # without a shared record (self-play) one dry visit still ends it
+    alone = _refinement(_DryFirst(dry=1), None)
+    alone.run(deadline=float("inf"), max_work=1)
+    assert alone.exhausted

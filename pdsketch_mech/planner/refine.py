@@ -110,9 +110,12 @@ class Refinement:
                 if i > 0:
                     self.depth -= 1
                     continue
-                # The first step's visit is over. If it yielded nothing its sampler found no
-                # feasible values at all; otherwise pause: the next slice draws fresh ones.
-                self.exhausted = self.root_yields == 0
+                # The first step's visit is over; the next slice draws fresh values. A visit
+                # that yielded nothing ends the skeleton only once the step is known dead
+                # (pristine.py): one dry visit of a stochastic sampler (a spoon's grasps, 120
+                # proposals) is bad luck as often as impossibility, and ending the skeleton
+                # there lost the Lever mechanism's own skeleton a quarter second in.
+                self.exhausted = self.root_yields == 0 and self._root_dead()
                 self.root_yields = 0
                 return None
             if i == 0:
@@ -147,6 +150,13 @@ class Refinement:
                 self.failures[f"rejected: {error}"] += 1
                 self.depth -= 1
         return None
+
+    def _root_dead(self) -> bool:
+        """Whether the first step's dry visit ends the skeleton: always without a shared
+        record of pristine failures (self-play), else once the record calls the step dead."""
+        if self.memo is None or not self.pristine or self.pristine[0] is None:
+            return True
+        return self.pristine[0] in self.memo.dead
 
     def _certified(self, step: Step, observed: int) -> bool:
         """Some alternative of the mechanism's promise holds: observable facts as simulated,
