@@ -16,14 +16,15 @@ from ..samplers.trajectory import approach_axis
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
 from ..world.attachment import relative_pose
 from ..world.robot import CLOSED, MAX_OPENING
-from .execution import (ExecutionError, Recorder, fingers_touching, follow, follow_dynamic, move_straight,
-                        set_fingers_dynamic)
+from .execution import (ExecutionError, Recorder, back_out, fingers_touching, follow, follow_dynamic,
+                        move_straight, set_fingers_dynamic)
 
 if TYPE_CHECKING:
     from ..world.world import World
 
 LIFT = 0.10     # metres up after a grasp
 BACK = 0.06     # metres back after a placement or a push
+OUT_BEYOND = 0.20  # metres a push's retreat may go on past where it started, to clear its lift
 UP = (0.0, 0.0, 1.0)
 GRASP_POSITION_TOLERANCE = 5e-3            # metres between the hand and the stored grasp
 GRASP_ANGLE_TOLERANCE = np.radians(5.0)
@@ -107,7 +108,8 @@ def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory
 
 def push(world: "World", contact: Contact, trajectory: Trajectory, recorder: Optional[Recorder] = None) -> Outcome:
     """transit-cont (bare gripper) and move-cont (a held tool): approach behind the contact,
-    push with the position controllers while the simulation runs, back off, settle."""
+    push with the position controllers while the simulation runs, back out until the way up
+    is clear (`back_out`), lift, settle."""
     def run() -> Optional[Outcome]:
         bare = contact.pusher is None
         held = world.attachment.name if world.attachment else None
@@ -118,7 +120,12 @@ def push(world: "World", contact: Contact, trajectory: Trajectory, recorder: Opt
         if bare:
             set_fingers_dynamic(world, CLOSED, recorder)
         touched = follow_dynamic(world, trajectory.final, "push", recorder)
-        move_straight(world, -np.asarray(contact.direction, dtype=float), BACK, "retreat", recorder)
+        # Back out of wherever the push went (a tunnel) before lifting: at most the way the
+        # push came in and OUT_BEYOND further, where the approach came from.
+        direction = np.asarray(contact.direction, dtype=float)
+        started = np.asarray(world.kinematics.fk(trajectory.final[0])[0])
+        travelled = float(np.dot(np.asarray(world.tcp_pose()[0]) - started, direction / np.linalg.norm(direction)))
+        back_out(world, -direction, BACK, max(travelled, 0.0) + OUT_BEYOND, UP, LIFT, recorder)
         move_straight(world, UP, LIFT, "lift", recorder)
         if bare:
             set_fingers_dynamic(world, MAX_OPENING / 2, recorder)

@@ -25,6 +25,7 @@ SETTLE_AFTER_MOTION = 60
 START_TOLERANCE = 1e-3   # radians: a trajectory must start at the arm's configuration
 CONTACT_DISTANCE = 2e-3  # metres: a finger this close to the object touches it
 FINGER_STEPS = 120       # physics steps at most for the fingers to close or open
+RETREAT_STEP = 0.01      # metres: how finely a retreat looks for the point where the way up is clear
 
 
 class ExecutionError(Exception):
@@ -100,6 +101,38 @@ def move_straight(world: "World", direction: Sequence[float], distance: float, w
     if path is None:
         raise ExecutionError(f"no straight {what}")
     return follow_dynamic(world, path, what, recorder)
+
+
+def back_out(world: "World", direction: Sequence[float], at_least: float, at_most: float,
+             lift: Sequence[float], lift_distance: float, recorder: Optional[Recorder] = None) -> Set[str]:
+    """Retreat straight along `direction` by `at_least`, and on (up to `at_most`) to the
+    first point from which a straight lift of `lift_distance` is collision-free, if there
+    is one. A tool poked into a tunnel must come back out the way it went in: lifted
+    inside, it jams against the roof and leaves the arm in collision (Poking: 579 of 730
+    motion plans after a poke failed on a start configuration jammed in the tunnel)."""
+    rng = np.random.default_rng(0)  # no random restarts: the same state, the same motion
+    path = cartesian_path(world, world.arm(), direction, at_least, rng)
+    if path is None:
+        raise ExecutionError("no straight retreat")
+    if not _lift_is_free(world, path[-1], lift, lift_distance, rng):
+        # A centimetre at a time: a long straight line can fail at its far end (out of
+        # reach, a wrist flip) when its first part would have done.
+        further = [path[-1]]
+        for _ in range(int(np.floor((at_most - at_least) / RETREAT_STEP))):
+            step = cartesian_path(world, further[-1], direction, RETREAT_STEP, rng)
+            if step is None:
+                break
+            further.append(step[-1])
+            if _lift_is_free(world, further[-1], lift, lift_distance, rng):
+                path = np.concatenate([path, further[1:]])
+                break
+    return follow_dynamic(world, path, "retreat", recorder)
+
+
+def _lift_is_free(world: "World", q: Sequence[float], lift: Sequence[float], distance: float,
+                  rng: np.random.Generator) -> bool:
+    path = cartesian_path(world, q, lift, distance, rng)
+    return path is not None and path_collision(world, path) is None
 
 
 def set_fingers_dynamic(world: "World", half_width: float, recorder: Optional[Recorder] = None) -> None:

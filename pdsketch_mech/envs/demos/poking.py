@@ -4,7 +4,7 @@ grasp the block."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Tuple
 
 import numpy as np
 
@@ -39,7 +39,28 @@ def demo(world: "World", instance: "Instance", driver: Driver) -> None:
     tool, target, tunnel = "tool", "target", "tunnel"
     tx, ty, tz, tyaw = planar(world, tool)
     grasp_end(world, instance, driver, tool)
+    byaw = planar(world, target)[3]
+    axis, travel = poke(world, instance, driver)
+    driver.line((-axis[0], -axis[1], 0.0), travel)
 
+    # Put the stick back where it was, then take the block.
+    driver.up(0.06)
+    driver.place_held([((tx, ty, tz + 0.002), yaw_quat(tyaw))])
+    driver.release()
+    driver.up(0.08)
+    cx, cy, _, _ = planar(world, tunnel)
+    ulo, uhi = box(instance, tunnel)
+    bx, by, _, _ = planar(world, target)
+    blo, bhi = box(instance, target)
+    if np.dot((bx - cx, by - cy), axis) - extent_along(blo, bhi, byaw, axis) < float(uhi[0] - ulo[0]) / 2:
+        raise DemoError("the block did not come out of the tunnel")
+    grasp_from_top(world, instance, driver, target)
+
+
+def poke(world: "World", instance: "Instance", driver: Driver) -> Tuple[np.ndarray, float]:
+    """With the stick held, put it before the tunnel's mouth and push it along the axis
+    until the block is out of the far end; returns the axis (xy) and how far it went."""
+    tool, target, tunnel = "tool", "target", "tunnel"
     # The tunnel's axis (its +x): the stick goes in at the -x mouth.
     cx, cy, _, cyaw = planar(world, tunnel)
     axis = np.array([math.cos(cyaw), math.sin(cyaw)])
@@ -64,14 +85,4 @@ def demo(world: "World", instance: "Instance", driver: Driver) -> None:
     if s_block - half_depth < s_tip0:
         raise DemoError("the block is not inside the tunnel")
     driver.line((axis[0], axis[1], 0.0), travel, steps=PUSH_STEPS)
-    driver.line((-axis[0], -axis[1], 0.0), travel)
-
-    # Put the stick back where it was, then take the block.
-    driver.up(0.06)
-    driver.place_held([((tx, ty, tz + 0.002), yaw_quat(tyaw))])
-    driver.release()
-    driver.up(0.08)
-    bx, by, _, _ = planar(world, target)
-    if np.dot((bx - cx, by - cy), axis) - half_depth < half_length:
-        raise DemoError("the block did not come out of the tunnel")
-    grasp_from_top(world, instance, driver, target)
+    return axis, travel
