@@ -4,6 +4,7 @@ not trained on -- ranking figures per parameter, seen and held-out categories ap
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from pdsketch_mech import learn
 from pdsketch_mech.learning.evaluate import ContextScore, score_episodes, summarise
 from pdsketch_mech.learning.sampler_training import TrainConfig, train_mechanism
 
+from conftest import ROOT
 from learned_data import TINY, synthetic_episodes
 
 
@@ -50,6 +52,13 @@ def test_evaluate_cli_says_what_to_run_when_there_is_no_test_data(tmp_path, caps
     assert learn.main(["evaluate", "com"]) in (0, 2)            # out/selfplay-test/com may exist on a dev machine
     err = capsys.readouterr().err.strip().splitlines()
     assert err[0] == f"error: {tmp_path / 'none'}: no such folder"
+
+
+def test_a_fragment_without_the_mechanism_is_named_in_the_error(capsys):
+    fragment = os.path.join(ROOT, "domains", "mechanisms", "hook-use.pddl")
+    assert learn.main(["evaluate", "com", "--fragment", fragment]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"error: no mechanism named com in {fragment} (it has: hook-use)"]
 
 
 def test_selfplay_on_the_test_split_then_evaluate_and_train_refuses_that_folder(tmp_path, capsys):

@@ -76,7 +76,8 @@ def find_mechanism(loaded: LoadedDomain, name: str) -> Mechanism:
         if mechanism.name == name:
             return mechanism
     names = ", ".join(m.name for m in loaded.domain.mechanisms) or "none"
-    raise ValueError(f"no mechanism named {name} in {loaded.files[0]} (it has: {names})")
+    # The files are in load order, what a fragment :extends first: the fragment is the last.
+    raise ValueError(f"no mechanism named {name} in {loaded.files[-1]} (it has: {names})")
 
 
 DEMO_LINE = re.compile(r"^; Mechanism \S+: extracted from the demonstration (\S+)", re.M)
