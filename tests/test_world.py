@@ -113,6 +113,20 @@ def test_motion_plan_is_collision_free_along_the_whole_path():
         assert not path_is_free(world, np.array([start, goal]), step=0.005)  # the straight line hits the box
 
 
+def test_a_start_pressed_a_little_past_a_joint_limit_still_gets_a_path_from_where_it_is():
+    rng = np.random.default_rng(2)
+    with table_world(("wall", "brick/0", 0.5, 0.0)) as world:
+        limits = world.kinematics.limits
+        start = world.kinematics.ik([0.5, -0.2, 0.04], DOWN, rng)
+        goal = world.kinematics.ik([0.5, 0.2, 0.04], DOWN, rng)
+        start[6] = limits.upper[6] + 0.01          # the wrist, as a push with physics on can leave it
+        result = plan_motion(world, start, goal, max_checks=40000)
+        assert result.path is not None, result.reason
+        assert np.array_equal(result.path[0], start) and limits.contains(result.path[-1])
+        start[6] = limits.upper[6] + 0.1
+        assert plan_motion(world, start, goal).reason == "start is outside the joint limits"
+
+
 def test_motion_plan_reports_a_colliding_goal():
     rng = np.random.default_rng(3)
     with table_world(("wall", "box/0", 0.5, 0.0)) as world:

@@ -32,6 +32,8 @@ CHECK_STEP = 0.01   # radians between collision checks along an edge (OMPL's set
 LINE_POS_TOL = 1e-3  # metres and radians off the line: a grasp executed from it lands within
 LINE_ANG_TOL = 1e-2  # millimetres of the sampled one
 MAX_CHECKS = 8000     # collision checks an RRT query may use (~1 s on this machine)
+START_SLACK = 0.02    # radians past a joint limit a start may be: a push or a lift with physics
+                      # on can press a joint a little past it, and every motion from there failed
 
 
 def _seed_ompl(seed: int) -> None:
@@ -56,8 +58,8 @@ def plan_motion(world: "World", start: Sequence[float], goal: Sequence[float], i
     checker = CollisionChecker(world, ignore)
     limits = world.kinematics.limits
     with world.saved():
-        for label, q in (("start", start), ("goal", goal)):
-            if not limits.contains(q):
+        for label, q, slack in (("start", start, START_SLACK), ("goal", goal, 1e-6)):
+            if not limits.contains(q, tol=slack):
                 return MotionResult(None, f"{label} is outside the joint limits")
             if checker.collides(q):
                 hit = ", ".join(sorted(checker.colliding_bodies(q)))
@@ -66,6 +68,8 @@ def plan_motion(world: "World", start: Sequence[float], goal: Sequence[float], i
             return MotionResult(_interpolate([start, goal]), checks=checker.checks)
         _seed_ompl(seed)
         path = _rrt_connect(checker, limits.lower, limits.upper, start, goal, checker.checks + max_checks)
+    if path is not None and np.any(path[0] != np.asarray(start, dtype=float)):
+        path = [np.asarray(start, dtype=float)] + path  # RRT started from the start clipped into the limits
     if path is None:
         return MotionResult(None, f"no path found in {max_checks} collision checks", checker.checks)
     return MotionResult(_interpolate(path), checks=checker.checks)
