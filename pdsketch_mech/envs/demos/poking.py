@@ -49,10 +49,9 @@ def demo(world: "World", instance: "Instance", driver: Driver) -> None:
     driver.release()
     driver.up(0.08)
     cx, cy, _, _ = planar(world, tunnel)
-    ulo, uhi = box(instance, tunnel)
     bx, by, _, _ = planar(world, target)
-    blo, bhi = box(instance, target)
-    if np.dot((bx - cx, by - cy), axis) - extent_along(blo, bhi, byaw, axis) < float(uhi[0] - ulo[0]) / 2:
+    if np.dot((bx - cx, by - cy), axis) - extent_along(*box(instance, target), byaw, axis) < \
+            _half_length(instance, tunnel):
         raise DemoError("the block did not come out of the tunnel")
     grasp_from_top(world, instance, driver, target)
 
@@ -64,8 +63,7 @@ def poke(world: "World", instance: "Instance", driver: Driver) -> Tuple[np.ndarr
     # The tunnel's axis (its +x): the stick goes in at the -x mouth.
     cx, cy, _, cyaw = planar(world, tunnel)
     axis = np.array([math.cos(cyaw), math.sin(cyaw)])
-    ulo, uhi = box(instance, tunnel)
-    half_length = float(uhi[0] - ulo[0]) / 2
+    half_length = _half_length(instance, tunnel)
     bx, by, _, byaw = planar(world, target)
     blo, bhi = box(instance, target)
     half_depth = extent_along(blo, bhi, byaw, axis)
@@ -86,3 +84,9 @@ def poke(world: "World", instance: "Instance", driver: Driver) -> Tuple[np.ndarr
         raise DemoError("the block is not inside the tunnel")
     driver.line((axis[0], axis[1], 0.0), travel, steps=PUSH_STEPS)
     return axis, travel
+
+
+def _half_length(instance: "Instance", tunnel: str) -> float:
+    """Half the tunnel's length along its axis (its +x)."""
+    lo, hi = box(instance, tunnel)
+    return float(hi[0] - lo[0]) / 2
