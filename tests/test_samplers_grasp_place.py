@@ -9,7 +9,7 @@ from scipy.spatial.transform import Rotation
 from pdsketch_mech.lang.scene import SceneObject
 from pdsketch_mech.samplers.geometry import body_mesh, body_parts, pose_matrix, world_mesh
 from pdsketch_mech.samplers.grasp import antipodal_pairs, sample_grasps, world_grasp_pose
-from pdsketch_mech.samplers.placement import sample_placements
+from pdsketch_mech.samplers.placement import RISE, rest_on_relief, sample_placements
 from pdsketch_mech.world.asset_index import assets_root, resolve_asset
 from pdsketch_mech.world.collision import CollisionChecker
 from pdsketch_mech.world.robot import MAX_OPENING
@@ -194,6 +194,40 @@ def test_placements_in_a_bowl_do_not_sink_into_its_wall():
             with world.saved():
                 world.set_pose("block", placement.pose)
                 assert penetration(world, "block", "bowl") <= 0.001
+
+
+def test_a_box_too_long_for_a_plates_floor_may_rest_on_its_rim():
+    # A 12 cm box fits the floor of a 22 cm plate only near its centre; a weight for a lever
+    # must get further out, resting on the rim (tilted once released). Such placements are
+    # raised clear of the plate; none sinks into it.
+    rng = np.random.default_rng(3)
+    with table_world(("box", "box/0", 0.45, -0.2), ("plate", "plate/0", 0.55, 0.1)) as world:
+        hold(world, "box", rng)
+        placements = list(sample_placements(world, "box", "plate", rng, max_attempts=300))
+        assert len(placements) >= 10
+        lowest = []
+        for placement in placements:
+            with world.saved():
+                world.set_pose("box", placement.pose)
+                assert penetration(world, "box", "plate") <= 0.001
+                lowest.append(world_mesh(world, "box").vertices[:, 2].min())
+        floor = min(lowest)
+        assert any(z > floor + 0.004 for z in lowest)       # on the rim
+        assert all(z < floor + RISE + 0.003 for z in lowest)
+
+
+def test_relief_lifts_an_object_off_its_support_but_not_off_anything_else():
+    rng = np.random.default_rng(4)
+    with table_world(("box", "box/0", 0.45, -0.2), ("plate", "plate/0", 0.55, 0.1),
+                     ("block", "block/0", 0.62, -0.12)) as world:
+        hold(world, "box", rng)
+        (x, y, z), quaternion = next(sample_placements(world, "box", "plate", rng)).pose
+        with world.saved():
+            raised = rest_on_relief(world, "box", "plate", ((x, y, z - 0.005), quaternion))  # 5 mm into the plate
+            assert raised is not None and raised[0][2] >= z - 0.001
+            world.set_pose("box", raised)
+            assert penetration(world, "box", "plate") <= 0.001
+            assert rest_on_relief(world, "box", "plate", ((0.62, -0.12, z), quaternion)) is None  # in the block
 
 
 def test_a_thin_sheet_held_at_its_centre_is_not_laid_flat():

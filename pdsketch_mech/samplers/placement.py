@@ -16,7 +16,7 @@ import pybullet as p
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from ..world.collision import PENETRATION, CollisionChecker, body_penetrates
+from ..world.collision import PENETRATION, CollisionChecker, body_penetrates, body_penetration
 from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
 from .grasp import IK_RESTARTS
 from .interface import Sampler, SampleRequest
@@ -28,6 +28,8 @@ if TYPE_CHECKING:
 GAP = 0.002          # metres between the resting face and the support plane
 PRE_PLACE = 0.08     # metres above the placement (world z)
 SINK = 0.001         # deeper penetration of the object at the placement pose rejects it
+RISE = 0.03          # metres a placement may be raised onto the support's relief (rest_on_relief)
+RISE_STEPS = 6
 
 Facet = Tuple[np.ndarray, np.ndarray, float]  # outward normal, centre, area (object frame)
 
@@ -78,6 +80,27 @@ def sinks(world: "World", obj: str, pose: Pose) -> bool:
     """Would `obj` at `pose` penetrate any body (the robot holding it aside)? Leaves it there."""
     world.set_pose(obj, pose)
     return body_penetrates(world, obj, SINK)
+
+
+def rest_on_relief(world: "World", obj: str, support: str, pose: Pose) -> Optional[Pose]:
+    """`pose`, raised (world z, at most RISE) until `obj` no longer sinks into `support`, or
+    None if it sinks into anything else or needs more. A resting face is put on the plane
+    through one surface point; where the support is not flat under the whole face (a dish's
+    rim under a box's end, a bowl's wall) the object rests on that relief instead, tilted
+    once released -- the only way a weight gets far out on a plate. Leaves `obj` there."""
+    position, orientation = np.asarray(pose[0], dtype=float), tuple(pose[1])
+    support_id = world.bodies[support].id
+    for _ in range(RISE_STEPS):
+        world.set_pose(obj, (tuple(position), orientation))
+        depth = body_penetration(world, obj, support_id)
+        if depth is None:
+            return None
+        if depth <= SINK:
+            return tuple(float(v) for v in position), orientation
+        position[2] += depth + GAP
+        if position[2] - pose[0][2] > RISE:
+            return None
+    return None
 
 
 def placement_configurations(world: "World", placement: Placement, rng: np.random.Generator
@@ -146,13 +169,13 @@ def propose_placements(world: "World", obj: str, support: str, rng: np.random.Ge
         point, support_normal = points[0], normals[0]
         normal, centre, _ = facets[int(rng.choice(len(facets), p=weights))]
         matrix = object_pose(normal, centre, vertices, point, support_normal, rng.uniform(-np.pi, np.pi))
-        candidate = Placement(obj, support, matrix_pose(matrix), tuple(float(v) for v in support_normal))
         # The only check of the object against the support itself (a point on a bowl's floor
         # by its wall would otherwise put the object in the wall).
         with world.saved():
-            if sinks(world, obj, candidate.pose):
-                continue
-        yield candidate
+            pose = rest_on_relief(world, obj, support, matrix_pose(matrix))
+        if pose is None:
+            continue
+        yield Placement(obj, support, pose, tuple(float(v) for v in support_normal))
 
 
 def sample_placements(world: "World", obj: str, support: str, rng: np.random.Generator,

@@ -67,6 +67,22 @@ class CollisionChecker:
         return hit
 
 
+def body_penetration(world: "World", name: str, allowed: int) -> Optional[float]:
+    """How deep body `name`, where it is now, penetrates body id `allowed` (metres, 0 if
+    not at all), or None if it penetrates any other body (not the robot) by more than
+    PENETRATION. A static query, like `body_penetrates`."""
+    body_id, deepest = world.bodies[name].id, 0.0
+    for other in world.bodies.values():
+        if other.id == body_id:
+            continue
+        for contact in p.getClosestPoints(body_id, other.id, 0.0, physicsClientId=world.client):
+            if other.id == allowed:
+                deepest = max(deepest, -contact[8])
+            elif contact[8] < -PENETRATION:
+                return None
+    return deepest
+
+
 def body_penetrates(world: "World", name: str, depth: float = 1e-3) -> bool:
     """Does body `name`, where it is now, penetrate another body (not the robot) by more
     than `depth`? A static query: nothing moves. Samplers use it for candidate poses of
