@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Optional, Sequ
 import numpy as np
 
 from ..samplers.interface import StepContext
-from ..symbolic.task import StripsTask
+from ..symbolic.task import Operator, StripsTask
 from ..world.snapshot import Snapshot
 from ..world.world import World
 from .bindings import StepSampler
@@ -41,6 +41,7 @@ class Step:
     index: int = 0                # position in its mechanism (0 for a basis step)
     mechanism_args: Tuple[str, ...] = ()
     roles: Tuple[Tuple[str, str], ...] = ()  # the mechanism's placeholders and their variables
+    tolerated: int = 0            # support facts that may hold although `expected` lacks them
 
     def context(self) -> StepContext:
         """What the step's samplers are told about it."""
@@ -130,7 +131,7 @@ class Refinement:
             if self.memo is not None and self.pristine:
                 self.memo.found(self.pristine[i])
             observed = observed_state(self.task, world)
-            if (observed ^ step.expected) & self.observable:
+            if mismatch(observed, step, self.observable):
                 self.failures[f"{step.name}: simulated contacts differ from the skeleton"] += 1
                 continue
             if step.certified and not self._certified(step, observed):
@@ -165,11 +166,54 @@ class Refinement:
         return any(state & pre == pre and not state & neg for pre, neg in step.certified)
 
 
+def mismatch(observed: int, step: Step, observable: int) -> int:
+    """The observable facts where the simulation and the skeleton disagree after `step`:
+    a fact the skeleton expects that does not hold, or one that holds unexpected and is
+    not tolerated."""
+    diff = (observed ^ step.expected) & observable
+    return diff & ~(observed & step.tolerated)
+
+
+def goal_free_supports(task: StripsTask) -> int:
+    """The task's `support` facts that the goal does not need false (nor any of a
+    disjunctive goal's alternatives)."""
+    supports = sum(1 << i for fact, i in task.fact_ids.items() if fact[0] == "support")
+    needed_false = task.goal_neg
+    for op in task.operators:
+        if op.artificial:
+            needed_false |= op.neg
+    return supports & ~needed_false
+
+
+def tolerated_supports(task: StripsTask, candidates: int, step: Operator, later: Sequence[int]) -> int:
+    """Support facts (of `candidates`) that `step` may add beyond its effects: an object
+    that ends up resting on one more body than the skeleton says still rests on the ones
+    it says (a weight put on a plate's overhang, its handle on the wall beyond; the plate
+    it levers into the pit, now touching the table below too). Not so the object a step
+    moves without saying where it ends up (a push: an object pushed onto something else
+    did not do what the skeleton says), nor a fact a later step needs false (a negative
+    precondition, or a conditional effect's condition)."""
+    needed_false = 0
+    for op_id in later:
+        op = task.operators[op_id]
+        needed_false |= op.neg
+        for cond in op.conditional:
+            needed_false |= cond.pre | cond.neg
+    moved = step.args[0] if step.args else None
+    own = sum(1 << i for fact, i in task.fact_ids.items() if fact[0] == "support" and fact[1] == moved)
+    if step.add & own:  # the step says where its object comes to rest
+        own = 0
+    return candidates & ~needed_false & ~own
+
+
 def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
-    """Basis steps of a skeleton with the state each must produce (macros expanded). The
-    artificial steps that reach a disjunctive goal have no physical content: the states
-    the real steps must produce already satisfy one disjunct."""
-    steps, state = [], task.init
+    """Basis steps of a skeleton with the state each must produce (macros expanded) and
+    the support facts each may add unexpected (`tolerated_supports`). The artificial
+    steps that reach a disjunctive goal have no physical content: the states the real
+    steps must produce already satisfy one disjunct."""
+    basis_ids = [b for op_id in plan if not task.operators[op_id].artificial
+                 for b in (task.operators[op_id].steps or (op_id,))]
+    steps, state, supports = [], task.init, goal_free_supports(task)
     for op_id in plan:
         op = task.operators[op_id]
         if op.artificial:
@@ -183,5 +227,6 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
             steps.append(Step(basis.name, basis.args, state, op.name if macro else None,
                               op.certified if last and op.steps else (), k if macro else 0,
                               tuple(a for a in op.args if not a.startswith("#")) if macro else (),
-                              op.roles if macro else ()))
+                              op.roles if macro else (),
+                              tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:])))
     return steps
