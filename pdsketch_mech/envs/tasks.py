@@ -145,7 +145,9 @@ SLOPE = TaskSpec(
                    xy=(0.42, -0.15), yaw=90.0, friction=1.5, role="the blocker (rubbery: it stays on the slope)"),
         ObjectSpec("block", Assets(("block/0",), ("block/1",)), xy=(0.42, -0.38), role="the block to leave on the slope"),
     ),
-    goal="(and (support block slope) (handempty))",
+    # On the slope and off the table: a block set at the slope's foot rests on both, and
+    # "on the slope" alone would count that.
+    goal="(and (support block slope) (not (support block table)) (handempty))",
     distractors=Distractors(CLUTTER, (0, 1), ((0.25, 0.35), (-0.5, -0.3))),
     demo="lay the blocker across the slope, then put the block on the slope just above it; it slides "
          "onto the blocker and stays",
@@ -183,7 +185,7 @@ HOOK_SLOPE = TaskSpec(
         ObjectSpec("brick", Assets(("brick/0", "brick/1"), ("brick/2",)), xy=(0.36, -0.08), yaw=90.0,
                    role="another possible blocker"),
     ),
-    goal="(and (support target slope) (handempty))",
+    goal="(and (support target slope) (not (support target table)) (handempty))",
     demo="pull the box closer with the ladle, lay the ladle (or the brick) across the slope, put the "
          "box on the slope just above it",
 )
