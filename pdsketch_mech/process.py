@@ -31,6 +31,7 @@ EXIT_INTERRUPTED = 130
 
 _interrupted = threading.Event()
 _reported = threading.Event()
+_report_fd = 2                # where `interrupted` goes: the real stderr, also while fd 2 is silenced
 _in_main = threading.Event()  # KeyboardInterrupt is only raised where `cli.run` catches it
 
 
@@ -128,9 +129,21 @@ def _importing(frame) -> bool:
     return False
 
 
+@contextlib.contextmanager
+def reporting_to(fd: int) -> Iterator[None]:
+    """While fd 2 is sent elsewhere (quiet_pybullet silences PyBullet's banner), a Ctrl-C's
+    `interrupted` line goes to `fd`, a duplicate of the real stderr."""
+    global _report_fd
+    before, _report_fd = _report_fd, fd
+    try:
+        yield
+    finally:
+        _report_fd = before
+
+
 def _force_exit() -> None:
     """The KeyboardInterrupt was swallowed (or exit is slow): end the process now."""
     if not _reported.is_set():
         _reported.set()
-        os.write(2, b"interrupted\n")
+        os.write(_report_fd, b"interrupted\n")
     os._exit(EXIT_INTERRUPTED)

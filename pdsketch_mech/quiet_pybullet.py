@@ -14,6 +14,8 @@ import os
 import sys
 from typing import Iterator
 
+from . import process
+
 
 @contextlib.contextmanager
 def silenced() -> Iterator[None]:
@@ -23,9 +25,11 @@ def silenced() -> Iterator[None]:
     saved = [os.dup(1), os.dup(2)]
     devnull = os.open(os.devnull, os.O_WRONLY)
     try:
-        os.dup2(devnull, 1)
-        os.dup2(devnull, 2)
-        yield
+        # A Ctrl-C in here ends the process at once (process.py); its line must not go to /dev/null.
+        with process.reporting_to(saved[1]):
+            os.dup2(devnull, 1)
+            os.dup2(devnull, 2)
+            yield
     finally:
         os.dup2(saved[0], 1)
         os.dup2(saved[1], 2)
