@@ -22,7 +22,7 @@
       (support ?blocker ?support)
       (support ?target ?support)
       (not (= ?blocker ?target)))
-    :certified (and (support ?target ?surface) (handempty))
+    :certified (and (support ?target ?surface) (not (support ?target ?support)) (handempty))
     :actions (
       (grasp ?blocker ?support ?g1 ?t1)
       (place ?blocker ?surface ?p1 ?t2)
