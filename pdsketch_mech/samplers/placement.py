@@ -16,7 +16,7 @@ import pybullet as p
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from ..world.collision import PENETRATION, CollisionChecker, body_penetrates, body_penetration
+from ..world.collision import PENETRATION, CollisionChecker, body_penetration
 from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
 from .grasp import IK_RESTARTS
 from .interface import Sampler, SampleRequest
@@ -76,12 +76,6 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
     return matrix
 
 
-def sinks(world: "World", obj: str, pose: Pose) -> bool:
-    """Would `obj` at `pose` penetrate any body (the robot holding it aside)? Leaves it there."""
-    world.set_pose(obj, pose)
-    return body_penetrates(world, obj, SINK)
-
-
 def rest_on_relief(world: "World", obj: str, support: str, pose: Pose) -> Optional[Pose]:
     """`pose`, raised (world z, at most RISE) until `obj` no longer sinks into `support`, or
     None if it sinks into anything else or needs more. A resting face is put on the plane
@@ -108,7 +102,7 @@ def placement_configurations(world: "World", placement: Placement, rng: np.rando
     """(pre-place, place) arm configurations holding the object at `placement.pose` with the
     current grasp, or None if either has no IK or collides. Only the held object may touch
     the support: the arm may not, and neither may touch anything else. (How deep the object
-    sinks into the support is not checked here: `sinks` checks the exact pose for that.)"""
+    sinks into the support is not checked here: `rest_on_relief` checks the exact pose for that.)"""
     kin, held = world.kinematics, world.attachment
     if held is None or held.name != placement.object:
         raise ValueError(f"placing '{placement.object}' requires holding it")

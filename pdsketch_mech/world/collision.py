@@ -7,7 +7,7 @@ PyBullet also reports near-contacts inside its margin; only penetrations deeper 
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Collection, Iterable, Optional, Sequence
+from typing import TYPE_CHECKING, Collection, Iterable, Iterator, Optional, Sequence, Tuple
 
 import pybullet as p
 
@@ -67,19 +67,26 @@ class CollisionChecker:
         return hit
 
 
+def _closest_distances(world: "World", name: str) -> Iterator[Tuple[int, float]]:
+    """(other body id, signed distance) of body `name`'s closest points to every other
+    body it touches or penetrates, where it is now (negative: penetration)."""
+    body_id = world.bodies[name].id
+    for other in world.bodies.values():
+        if other.id != body_id:
+            for contact in p.getClosestPoints(body_id, other.id, 0.0, physicsClientId=world.client):
+                yield other.id, contact[8]
+
+
 def body_penetration(world: "World", name: str, allowed: int) -> Optional[float]:
     """How deep body `name`, where it is now, penetrates body id `allowed` (metres, 0 if
     not at all), or None if it penetrates any other body (not the robot) by more than
     PENETRATION. A static query, like `body_penetrates`."""
-    body_id, deepest = world.bodies[name].id, 0.0
-    for other in world.bodies.values():
-        if other.id == body_id:
-            continue
-        for contact in p.getClosestPoints(body_id, other.id, 0.0, physicsClientId=world.client):
-            if other.id == allowed:
-                deepest = max(deepest, -contact[8])
-            elif contact[8] < -PENETRATION:
-                return None
+    deepest = 0.0
+    for other, distance in _closest_distances(world, name):
+        if other == allowed:
+            deepest = max(deepest, -distance)
+        elif distance < -PENETRATION:
+            return None
     return deepest
 
 
@@ -87,9 +94,4 @@ def body_penetrates(world: "World", name: str, depth: float = 1e-3) -> bool:
     """Does body `name`, where it is now, penetrate another body (not the robot) by more
     than `depth`? A static query: nothing moves. Samplers use it for candidate poses of
     an object (a tool at a contact, an object at a placement) before any IK."""
-    body_id = world.bodies[name].id
-    for other in world.bodies.values():
-        if other.id != body_id and any(c[8] < -depth for c in p.getClosestPoints(
-                body_id, other.id, 0.0, physicsClientId=world.client)):
-            return True
-    return False
+    return any(distance < -depth for _, distance in _closest_distances(world, name))
