@@ -4,6 +4,7 @@ refuse another mechanism's definition, ranking that reorders but never drops pro
 the command end to end on a tiny configuration (Center-of-Mass, 4 episodes, 2 epochs)."""
 from __future__ import annotations
 
+import itertools
 import os
 import shutil
 from dataclasses import replace
@@ -21,7 +22,8 @@ from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, loa
 from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
 from pdsketch_mech.samplers.learned.forward import NumpyClassifiers
 from pdsketch_mech.samplers.learned.pointnet import ball_query, farthest_points
-from pdsketch_mech.samplers.learned.ranked import RankedSampler, walk_order
+from pdsketch_mech.samplers.learned.ranked import EXPLORE, RankedSampler, walk
+from pdsketch_mech.samplers.learned.trust import Trust
 from pdsketch_mech.samplers.learned.specs import ParamSpec
 
 from learned_data import TINY, synthetic_episodes
@@ -187,11 +189,34 @@ def test_a_checkpoint_missing_a_tensor_is_refused_when_loaded(com_fragment, tmp_
             loader(weights, mechanism, com_fragment)
 
 
-def test_walk_order_ranks_and_explores_but_keeps_every_proposal():
+def test_walk_ranks_and_explores_but_keeps_every_proposal():
     scores = np.array([0.1, 0.9, 0.5, 0.7])
-    assert walk_order(scores, np.random.default_rng(0), explore=0.0) == [1, 3, 2, 0]
+    assert [i for i, _ in walk(scores, np.random.default_rng(0), lambda: 0.0)] == [1, 3, 2, 0]
     for seed in range(5):
-        assert sorted(walk_order(scores, np.random.default_rng(seed), explore=0.5)) == [0, 1, 2, 3]
+        picks = list(walk(scores, np.random.default_rng(seed), lambda: 0.5))
+        assert sorted(i for i, _ in picks) == [0, 1, 2, 3]
+    assert all(explored for _, explored in list(walk(scores, np.random.default_rng(0), lambda: 1.0))[:-1])
+
+
+def test_trust_keeps_the_learned_order_unless_random_picks_do_better():
+    trust = Trust(EXPLORE)
+    assert trust.explore_chance() == EXPLORE                 # no evidence: the floor
+    for _ in range(4):
+        trust.record(explored=False, ok=True)
+        trust.record(explored=True, ok=False)
+    assert trust.explore_chance() == EXPLORE                 # learned picks do better: unchanged
+    even = Trust(EXPLORE)
+    for ok in (True, True, False):
+        even.record(explored=False, ok=ok)
+        even.record(explored=True, ok=ok)
+    assert even.explore_chance() == EXPLORE                  # as good as random (a grasp that works either way)
+    doubt = Trust(EXPLORE)
+    for _ in range(3):
+        doubt.record(explored=False, ok=False)
+    assert 0.4 < doubt.explore_chance() < 0.9                # learned picks keep failing: explore more
+    for _ in range(3):
+        doubt.record(explored=True, ok=True)
+    assert doubt.explore_chance() > 0.95                     # and random ones work: the generic order
 
 
 class Numbers(Sampler):
@@ -217,8 +242,8 @@ class ByValue:
 
 
 def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
-    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk_order",
-                        lambda scores, rng: list(np.argsort(-scores, kind="stable")))
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk",
+                        lambda scores, rng, explore: ((int(i), False) for i in np.argsort(-scores, kind="stable")))
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
     proposals = RankedSampler(Numbers(10), ByValue(), "?t", pool=0)   # a push: rank proposals
     assert list(proposals.draw(None, request, np.random.default_rng(0), budget=10)) == [8, 6, 4, 2, 0]
@@ -226,6 +251,36 @@ def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
     pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3)      # a grasp: rank verified values
     assert list(pooled.draw(None, request, np.random.default_rng(0), budget=10)) == [4, 2, 0, 8, 6]
     assert pooled.examined == 10
+
+
+class AllVerify(Numbers):
+    def verify(self, world, request, candidate, rng):
+        return float(candidate)   # a new object per proposal, as real values are
+
+
+def test_a_ranked_sampler_that_keeps_failing_falls_back_to_the_generic_order():
+    """The classifier ranks the high numbers first, but only values below 4 simulate well
+    (a shape it never saw): the plan's outcomes move the walk to random picks, per grounding."""
+    from pdsketch_mech.planner.bindings import StepSampler
+    request = SampleRequest("s", (), (), StepContext("place", (), "m", ("tool", "box")))
+    ranked = RankedSampler(AllVerify(16), ByValue(), "?p", pool=0)
+    steps = StepSampler({}, {}, None)
+    steps._ranked[("s", "m", "?p")] = ranked      # as sampler_for() registers it
+    rng = np.random.default_rng(0)
+    firsts = []
+    for _ in range(12):                           # twelve visits of the step, 3 values each
+        values = list(itertools.islice(ranked.draw(None, request, rng, budget=16), 3))
+        firsts.append(values[0])
+        for value in values:
+            steps.note_outcome({"#p": value}, value < 4)
+    trust = ranked.trust[("tool", "box")]
+    assert trust.learned_failed >= 3 and trust.explore_chance() > 0.9, trust
+    assert firsts[0] == 15.0 and np.mean(firsts[-4:]) < 12   # the best-ranked first, random picks later
+    assert steps.trust()["m ?p"]["explore"] > 0.9
+    other = SampleRequest("s", (), (), StepContext("place", (), "m", ("stick", "box")))
+    assert ranked.trust_for(other).explore_chance() == EXPLORE   # another grounding starts afresh
+    ranked.outcome(15.0, False)                   # a value this sampler never yielded: ignored
+    assert ranked.trust[("tool", "box")].learned_failed == trust.learned_failed
 
 
 def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():
@@ -292,12 +347,35 @@ def test_bench_samplers_table_compares_medians_overall_and_where_both_solved():
     trials = [Trial("a", False, "macro", "solved", 10, {"grasp": 10}, {"grasp": 6}),
               Trial("a", False, "macro+sampler", "solved", 5, {"grasp": 4}, {"grasp": 2}),
               Trial("b", True, "macro", "unsolved", 120, {"grasp": 50}, {"grasp": 30}),
-              Trial("b", True, "macro+sampler", "solved", 9, {"grasp": 5}, {"grasp": 3})]
+              Trial("b", True, "macro+sampler", "solved", 9, {"grasp": 5}, {"grasp": 3}),
+              Trial("b", True, "macro", "solved", 20, {"grasp": 50}, {"grasp": 30}, seed=1000),   # another run of b
+              Trial("b", True, "macro+sampler", "unsolved", 120, {"grasp": 50}, {"grasp": 30}, seed=1000)]
     _, rows, lines = table(trials)
-    assert ["all", "macro", "1/2", "10.0", "30.0", "18.0", "grasp 30.0/18.0"] in rows
-    assert ["held-out categories", "macro+sampler", "1/1", "9.0", "5.0", "3.0", "grasp 5.0/3.0"] in rows
-    assert "all instances: learned samplers simulate 7.20x fewer values" in lines[0]
+    assert ["all", "macro", "2/3", "15.0", "50.0", "30.0", "grasp 50.0/30.0"] in rows
+    assert ["held-out categories", "macro+sampler", "1/2", "9.0", "27.5", "16.5", "grasp 27.5/16.5"] in rows
+    assert ["solved by both", "macro", "1/1", "10.0", "10.0", "6.0", "grasp 10.0/6.0"] in rows  # runs, not instances
+    assert "all instances: learned samplers simulate 10.00x fewer values" in lines[0]
     assert "instances solved by both: learned samplers simulate 3.00x fewer values" in lines[1]
+
+
+def test_bench_samplers_plans_each_instance_with_its_own_seed(monkeypatch):
+    """Both methods of instance k get planner seed S + k, as in `bench mechanisms` (with one
+    seed for every instance the generic sampler drew the same first values on each), and
+    run j of it S + k + 1000 j."""
+    from pdsketch_mech.bench import samplers
+    from pdsketch_mech.bench.trials import Trial
+    jobs = []
+
+    def run_job(job, folder):
+        jobs.append(job)
+        return Trial(job.task, job.method, job.index, job.instance, job.seed, "solved", 1.0)
+    monkeypatch.setattr(samplers, "run_job", run_job)
+    trials = samplers.run_samplers("com", "domains/mechanisms/com.pddl", 3, "test", 5, 10.0, progress=False, runs=2)
+    assert sorted((job.index, job.method, job.seed) for job in jobs) == sorted(
+        (k, method, 5 + k + 1000 * j) for k in range(3) for j in range(2) for method in samplers.METHODS)
+    assert len({job.instance for job in jobs}) == 6          # each run keeps its own files
+    assert {t.instance for t in trials} == {"com-test-5", "com-test-6", "com-test-7"}
+    assert len({t.run for t in trials}) == 6
 
 
 def test_a_push_is_ranked_by_its_distance():

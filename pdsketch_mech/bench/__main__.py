@@ -188,21 +188,22 @@ def run_samplers_command(args: argparse.Namespace) -> int:
         raise ipc.BenchError("--report: the learning report compares on the test split (drop --split)")
     keep = _keep_folder(args.keep)
     trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep,
-                                   workers=args.workers)
+                                   workers=args.workers, runs=args.runs)
     header, cells, lines = samplers.table(trials)
     print(render_text(header, cells, lines), end="")
     if args.markdown:
         write_text(args.markdown, render_markdown(header, cells, lines))
     if args.plot:
         samplers.plot(trials, args.plot, f"mechanism {args.name}: generic vs learned samplers, "
-                                         f"{args.instances} {args.split} instances")
+                                         f"{args.instances} {args.split} instances x {args.runs} runs")
     if report:
         command = f"python -m pdsketch_mech.bench samplers {args.name} --instances {args.instances} " \
-                  f"--timeout {args.timeout:g} --report"
+                  f"--runs {args.runs} --timeout {args.timeout:g} --report"
         png = samplers.add_to_report(trials, report, args.name, command)
         print(f"added the comparison to {report} ({png})")
     _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,
-                                "instances": args.instances, "seed": args.seed, "timeout_s": args.timeout,
+                                "instances": args.instances, "runs": args.runs, "seed": args.seed,
+                                "timeout_s": args.timeout,
                                 "trials": [asdict(t) for t in trials], "lines": lines})
     return EXIT_UNSOLVED if any(t.status == "invalid" for t in trials) else EXIT_OK
 
@@ -279,6 +280,8 @@ def build_parser() -> argparse.ArgumentParser:
     learned.add_argument("--instances", type=count, default=10, metavar="N", help="instances (default 10)")
     learned.add_argument("--split", choices=("train", "test"), default="test", help="(default test)")
     learned.add_argument("--seed", type=seed, default=0, metavar="S", help="instance seeds S..S+N-1 (default 0)")
+    learned.add_argument("--runs", type=count, default=1, metavar="K",
+                         help="plans per instance and method, with planner seeds S+k, S+k+1000, ... (default 1)")
     learned.add_argument("--timeout", type=seconds, default=120.0, metavar="S", help="seconds per run (default 120)")
     learned.add_argument("--workers", type=count, default=1, metavar="K",
                          help="plans run at a time, each in its own process (default 1; times are measured under "

@@ -1,7 +1,8 @@
 """`bench samplers NAME`: a mechanism's learned samplers against its generic ones (the
 paper's Macro+Sampler vs Macro) on instances of its task's test split.
 
-Each instance is planned twice with the mechanism's fragment, each in its own process:
+Each instance is planned twice with the mechanism's fragment, each in its own process and
+with the instance's seed as the planner's:
 `--no-learned-samplers` (Macro) and with the checkpoint the fragment names (Macro+Sampler).
 Every solved plan is replayed in a fresh process. Figures per method: solved, median time,
 median proposals verified (samples drawn from the samplers) and median values evaluated in
@@ -22,6 +23,9 @@ from .trials import Job, run_job
 METHODS = ("macro", "macro+sampler")   # the paper's Macro and Macro+Sampler (trials.METHOD_FLAGS)
 
 
+RUN_SEED_STRIDE = 1000   # run j of instance k plans with seed S + k + RUN_SEED_STRIDE * j
+
+
 @dataclass
 class Trial:
     instance: str
@@ -33,6 +37,12 @@ class Trial:
     simulated: Dict[str, int] = field(default_factory=dict)   # per sampler
     score_ms: Optional[float] = None
     reason: str = ""
+    seed: int = 0                         # the planner's --seed
+
+    @property
+    def run(self) -> Tuple[str, int]:
+        """The instance and planner seed: the same for both methods' trials of one run."""
+        return self.instance, self.seed
 
     @property
     def proposed(self) -> int:
@@ -44,9 +54,10 @@ class Trial:
 
 
 def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed: int, timeout: float,
-                 keep: Optional[str] = None, progress: bool = True, workers: int = 1) -> List[Trial]:
-    """Every instance planned by both methods, `workers` plans at a time (each its own
-    process); trials in (instance, method) order whatever order they finish in."""
+                 keep: Optional[str] = None, progress: bool = True, workers: int = 1, runs: int = 1) -> List[Trial]:
+    """Every instance planned by both methods `runs` times (planner seeds S + k, then
+    S + k + RUN_SEED_STRIDE * j), `workers` plans at a time (each its own process); trials
+    in (instance, run, method) order whatever order they finish in."""
     from concurrent.futures import ThreadPoolExecutor
 
     from ..envs.generate import sample
@@ -56,16 +67,23 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
         for k in range(instances):
             instance = sample(TASKS[task_name], split, seed + k)
             held = instance.held_out
-            jobs += [(held, Job(task_name, method, k, instance.name, instance.problem_text(), fragment, (), 0, timeout))
-                     for method in METHODS]
+            # The planner's seed is the instance's, as in `bench mechanisms`: with one seed for
+            # all, the generic sampler's first draws were the same on every instance, and on
+            # near-identical instances (five spoon/2 blockers on Slope-and-Blocker) one lucky
+            # draw counted five times.
+            # One plan says little: the same checkpoint solved Hook 8/10 and 6/10 on two runs.
+            for j in range(runs):
+                name = instance.name + (f"-run{j}" if j else "")   # keep: INSTANCE[-runJ]-METHOD.json
+                jobs += [(held, Job(task_name, method, k, name, instance.problem_text(), fragment, (),
+                                    seed + k + RUN_SEED_STRIDE * j, timeout), instance.name) for method in METHODS]
 
-        def run(item: Tuple[bool, Job]) -> Trial:
-            held, job = item
+        def run(item: Tuple[bool, Job, str]) -> Trial:
+            held, job, instance = item
             done = run_job(job, keep or tmp)
-            trial = Trial(job.instance, held, job.method, done.status, done.time_s, _summed(done.proposals),
-                          done.simulated, done.score_ms, done.reason)
+            trial = Trial(instance, held, job.method, done.status, done.time_s, _summed(done.proposals),
+                          done.simulated, done.score_ms, done.reason, job.seed)
             if progress:
-                print(f"  {trial.instance}{' (held-out category)' if trial.held_out else ''} {trial.method}: "
+                print(f"  {job.instance}{' (held-out category)' if trial.held_out else ''} {trial.method}: "
                       f"{trial.status} in {trial.time_s:.1f} s, {trial.proposed} proposals, "
                       f"{trial.evaluated} simulated", file=sys.stderr, flush=True)
             return trial
@@ -93,11 +111,10 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
     header = ["instances", "method", "solved", "median s", "median proposals", "median simulated",
               "per sampler: proposals / simulated (medians)"]
     rows, lines = [], []
-    both = {t.instance for t in trials if t.status == "solved"
-            and all(u.status == "solved" for u in trials if u.instance == t.instance)}
+    both = {t.run for t in trials if t.status == "solved" and all(u.status == "solved" for u in trials if u.run == t.run)}
     groups = [("all", list(trials)), ("seen categories", [t for t in trials if not t.held_out]),
               ("held-out categories", [t for t in trials if t.held_out]),
-              ("solved by both", [t for t in trials if t.instance in both])]
+              ("solved by both", [t for t in trials if t.run in both])]
     for label, group in groups:
         if not group or (label != "all" and len(group) == len(trials)):
             continue
@@ -109,7 +126,7 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
                             f"{_median([t.simulated.get(n, 0) for t in mine])}" for n in samplers)
             rows.append([label, method, f"{len(solved)}/{len(mine)}", _median([t.time_s for t in solved]),
                          _median([t.proposed for t in mine]), _median([t.evaluated for t in mine]), per])
-    solved_by_both = [t for t in trials if t.instance in both]
+    solved_by_both = [t for t in trials if t.run in both]
     for label, group in (("all instances", list(trials)), ("instances solved by both", solved_by_both)):
         generic = [t for t in group if t.method == "macro"]
         learned = [t for t in group if t.method == "macro+sampler"]
@@ -124,7 +141,7 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
                      "(the first batch of a plan includes loading the shapes)")
     for t in trials:
         if t.status != "solved":
-            lines.append(f"{t.instance} {t.method}: {t.status} ({t.reason})")
+            lines.append(f"{t.instance} (seed {t.seed}) {t.method}: {t.status} ({t.reason})")
     return header, rows, lines
 
 
@@ -179,13 +196,15 @@ def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str)
     from ..cli import write_text
     from .tables import render_markdown
     png = report[:-len(".md")] + "-fig8.png"
-    instances = len({t.instance for t in trials})
-    plot(trials, png, f"mechanism {name}: samples per sampler, generic vs learned ({instances} test instances)")
+    instances, runs = len({t.instance for t in trials}), len({t.run for t in trials})
+    plot(trials, png, f"mechanism {name}: samples per sampler, generic vs learned "
+                      f"({instances} test instances, {runs} runs)")
     header, cells, lines = table(trials)
     with open(report, encoding="utf-8") as handle:
         text = handle.read()
     kept = text.split(REPORT_HEADING)[0].rstrip("\n")
-    section = (f"{REPORT_HEADING}\n\nMade by `{command}`: each instance planned with the mechanism's generic "
+    section = (f"{REPORT_HEADING}\n\nMade by `{command}`: each run (an instance and a planner seed) planned with "
+               "the mechanism's generic "
                "samplers (Macro) and with the learned ones (Macro+Sampler); every solved plan replayed in a fresh "
                "process.\n\n" + render_markdown(header, cells, lines)
                + f"\n![per-sampler breakdown]({os.path.basename(png)})\n")

@@ -99,7 +99,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                                 "symbolic_s": 0.0, "continuous_s": 0.0,
                                 # read when the statistics are finished:
                                 "proposals": sampler.proposals, "simulated": sampler.simulated,
-                                "score_ms": [m.score_seconds for m in (learned or {}).values()]}
+                                "score_ms": [m.score_seconds for m in (learned or {}).values()],
+                                "trust": sampler.trust}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
@@ -225,6 +226,7 @@ def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, obje
     out["simulated"] = dict(sorted(stats["simulated"].items()))
     scores = [t for times in stats["score_ms"] for t in times]
     out["score_ms"] = {"batches": len(scores), "median": round(1000 * float(np.median(scores)), 2) if scores else None}
+    out["trust"] = stats["trust"]()
     out["symbolic_s"] = round(stats["symbolic_s"], 3)
     out["continuous_s"] = round(stats["continuous_s"], 3)
     out["failures"] = dict(failures.most_common(8))

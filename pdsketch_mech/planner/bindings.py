@@ -83,6 +83,26 @@ class StepSampler:
             if holder is not None:
                 self.simulated[self.key(holder.stream)] += 1
 
+    def note_outcome(self, values: Mapping[str, object], ok: bool) -> None:
+        """Tell the learned samplers whether the step their values were drawn for simulated
+        as the skeleton expects (samplers/learned/trust.py)."""
+        for sampler in self._ranked.values():
+            for value in values.values():
+                sampler.outcome(value, ok)
+
+    def trust(self) -> Dict[str, Dict[str, object]]:
+        """Per mechanism variable with a learned sampler: outcomes of learned and random picks
+        (successes, failures), summed over groundings, and the highest chance of a random
+        pick any grounding reached."""
+        out: Dict[str, Dict[str, object]] = {}
+        for (_, mechanism, variable), sampler in sorted(self._ranked.items()):
+            for record in sampler.trust.values():
+                row = out.setdefault(f"{mechanism} {variable}", {"learned": [0, 0], "random": [0, 0], "explore": 0.0})
+                row["learned"] = [row["learned"][0] + record.learned_ok, row["learned"][1] + record.learned_failed]
+                row["random"] = [row["random"][0] + record.random_ok, row["random"][1] + record.random_failed]
+                row["explore"] = max(row["explore"], round(record.explore_chance(), 3))
+        return out
+
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,
                 parents: Optional[Mapping[str, object]] = None, per_value: int = 1) -> Iterator[Dict[str, object]]:
         """Assignments {placeholder: value} for the placeholders among the step's arguments;

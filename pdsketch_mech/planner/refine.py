@@ -74,6 +74,7 @@ class Refinement:
         self.snapshots: List[Optional[Snapshot]] = [self.start] + [None] * n
         self.generators: List[Optional[Iterator[Dict[str, object]]]] = [None] * n
         self.visit_values = [0] * n   # values the current visit of each step has drawn
+        self.visit_successes = [0] * n  # ... and how many of them simulated as expected
         self.values: List[Optional[Dict[str, object]]] = [None] * n
         self.depth = 0
         self.deepest = 0              # most steps simulated in a row so far (statistics)
@@ -102,6 +103,7 @@ class Refinement:
                 self.generators[i] = itertools.islice(
                     self.sampler.samples(world, step.context(), self.rng, parents), TRIES_PER_VISIT)
                 self.visit_values[i] = 0
+                self.visit_successes[i] = 0
             values = next(self.generators[i], None)
             if values is None:  # this step is out of samples: revise the step before it
                 self.generators[i] = None
@@ -109,6 +111,9 @@ class Refinement:
                 if self.visit_values[i] == 0 and self.memo is not None and self.pristine:
                     self.memo.ran_dry(self.pristine[i])
                 if i > 0:
+                    if self._continues(i - 1) and self.visit_successes[i] == 0:
+                        # the step before led nowhere in this visit: its values failed
+                        self.sampler.note_outcome(self.values[i - 1], False)
                     self.depth -= 1
                     continue
                 # The first step's visit is over; the next slice draws fresh values. A visit
@@ -126,17 +131,25 @@ class Refinement:
             self.executions += 1
             self.sampler.note_simulated(values)
             if not outcome.ok:
-                self.failures[f"{step.name}: {outcome.reason}"] += 1
+                self._failed(values, f"{step.name}: {outcome.reason}")
                 continue
             if self.memo is not None and self.pristine:
                 self.memo.found(self.pristine[i])
             observed = observed_state(self.task, world)
             if mismatch(observed, step, self.observable):
-                self.failures[f"{step.name}: simulated contacts differ from the skeleton"] += 1
+                self._failed(values, f"{step.name}: simulated contacts differ from the skeleton")
                 continue
             if step.certified and not self._certified(step, observed):
-                self.failures[f"{step.mechanism}: its :certified facts do not hold after its steps"] += 1
+                self._failed(values, f"{step.mechanism}: its :certified facts do not hold after its steps")
                 continue
+            # A value of a mechanism step is worth what it leads to: it succeeds once the
+            # mechanism's next step simulates after it too (a grasp of a blocker that lets no
+            # placement hold fails), or with the mechanism's last step (trust.py).
+            if not self._continues(i):
+                self.sampler.note_outcome(values, True)
+            if i > 0 and self._continues(i - 1):
+                self.sampler.note_outcome(self.values[i - 1], True)
+            self.visit_successes[i] += 1
             self.values[i] = values
             self.snapshots[i + 1] = world.snapshot()
             self.generators[i + 1:] = [None] * (len(self.steps) - i - 1)
@@ -151,6 +164,17 @@ class Refinement:
                 self.failures[f"rejected: {error}"] += 1
                 self.depth -= 1
         return None
+
+    def _continues(self, i: int) -> bool:
+        """Whether step i + 1 is the next step of step i's mechanism."""
+        step, following = self.steps[i], self.steps[i + 1] if i + 1 < len(self.steps) else None
+        return (step.mechanism is not None and following is not None and following.mechanism == step.mechanism
+                and following.index == step.index + 1)
+
+    def _failed(self, values: Dict[str, object], reason: str) -> None:
+        """A simulated step failed: count why, and tell the samplers of its values."""
+        self.failures[reason] += 1
+        self.sampler.note_outcome(values, False)
 
     def _root_dead(self) -> bool:
         """Whether the first step's dry visit ends the skeleton: always without a shared

@@ -14,13 +14,18 @@ Slope-and-Blocker the best of 64 placements slid off the slope where a random on
 Measured (learned runs, 10 test instances, median values simulated): Slope-and-Blocker 139
 with batches of 64, 39 with 16 (generic: 136); Hook 329 with 64, 252 with 16, 392 with 8
 (generic: 479).
+
+How often the walk explores is not fixed: each pick's outcome (its proposal verified and its
+step simulated as the skeleton expects, or not) is counted per mechanism grounding, and
+evidence that random picks do better than the learned ones raises the chance (trust.py):
+a classifier wrong about a shape it never saw is walked in the generic order instead.
 """
 from __future__ import annotations
 
 import os
 import time
 from itertools import islice
-from typing import TYPE_CHECKING, Any, Dict, Iterable, Iterator, List, Optional
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -30,6 +35,7 @@ from .encoding import encode_as, encode_proposal, pose_array
 from .forward import NumpyClassifiers
 from .specs import width
 from .shapes import size_features, unit_cloud
+from .trust import Trust
 
 if TYPE_CHECKING:
     from ...lang.nodes import Mechanism
@@ -37,7 +43,9 @@ if TYPE_CHECKING:
 
 BATCH = 16        # proposals scored together (see above: not more)
 POOL = 8          # verified values scored together (grasps, contacts, placements)
-EXPLORE = 0.2     # chance that the next proposal verified is a random one rather than the best left
+EXPLORE = 0.2     # chance that the next proposal verified is a random one rather than the best left,
+                  # while the plan has no evidence that random ones do better (trust.py)
+PENDING = 1024    # yielded values awaiting their step's outcome, at most
 
 
 class LearnedMechanism:
@@ -93,14 +101,14 @@ class LearnedMechanism:
         return np.stack(rows)
 
 
-def walk_order(scores: np.ndarray, rng: np.random.Generator, explore: float = EXPLORE) -> List[int]:
-    """Indices best first, each next one drawn at random from the rest with chance `explore`."""
+def walk(scores: np.ndarray, rng: np.random.Generator, explore: Callable[[], float]) -> Iterator[Tuple[int, bool]]:
+    """(index, explored) best first, lazily: each next one is drawn at random from the rest
+    with chance `explore()`, read at that moment (outcomes of earlier picks may change it)."""
     remaining = [int(i) for i in np.argsort(-scores, kind="stable")]
-    order = []
     while remaining:
-        pick = int(rng.integers(len(remaining))) if len(remaining) > 1 and rng.random() < explore else 0
-        order.append(remaining.pop(pick))
-    return order
+        explored = len(remaining) > 1 and rng.random() < explore()
+        pick = int(rng.integers(len(remaining))) if explored else 0
+        yield remaining.pop(pick), explored
 
 
 class RankedSampler(Sampler):
@@ -122,6 +130,27 @@ class RankedSampler(Sampler):
             classifier = learned.model.classifier(variable)
             pool = 0 if classifier.spec.kind == "push" or learned.ranks_proposals(variable) else POOL
         self.pool = pool  # 0: rank proposals
+        self.trust: Dict[Tuple[str, ...], Trust] = {}   # per mechanism grounding
+        self._pending: Dict[int, Tuple[object, Trust, bool]] = {}  # id(value) -> (value, its trust, explored)
+
+    def trust_for(self, request: SampleRequest) -> Trust:
+        """The plan's record of learned against random picks for the step's grounding."""
+        return self.trust.setdefault(tuple(request.step.mechanism_args), Trust(EXPLORE))
+
+    def outcome(self, value: object, ok: bool) -> None:
+        """The step `value` was drawn for simulated as the skeleton expects (`ok`) or not;
+        counted once per value, and only for values this sampler yielded from a walk."""
+        entry = self._pending.pop(id(value), None)
+        if entry is not None and entry[0] is value:
+            entry[1].record(entry[2], ok)
+
+    def _yielded(self, value: object, trust: Trust, explored: bool) -> object:
+        # Most values are simulated at once; those whose visit ended first never are, so
+        # the oldest are forgotten beyond a bound.
+        if len(self._pending) >= PENDING:
+            del self._pending[next(iter(self._pending))]
+        self._pending[id(value)] = (value, trust, explored)
+        return value
 
     def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
              budget: Optional[int] = None) -> Iterator[object]:
@@ -149,8 +178,9 @@ class RankedSampler(Sampler):
             if not pool:
                 return
             scores = self.learned.score(world, request, self.variable, pool)
-            for index in walk_order(scores, rng):
-                yield pool[index]
+            trust = self.trust_for(request)
+            for index, explored in walk(scores, rng, trust.explore_chance):
+                yield self._yielded(pool[index], trust, explored)
 
     def propose(self, world, request, rng, budget):
         return self.generic.propose(world, request, rng, budget)
@@ -170,15 +200,18 @@ class RankedSampler(Sampler):
             if not batch:
                 return
             scores = self.learned.score(world, request, self.variable, batch)
-            for index in walk_order(scores, rng):
+            trust = self.trust_for(request)
+            for index, explored in walk(scores, rng, trust.explore_chance):
                 if examined >= limit or time.perf_counter() > request.deadline:
                     return
                 examined += 1
                 self.examined += 1
                 value = self.generic.verify(world, request, batch[index], rng)
                 request.verified(batch[index], value)
-                if value is not None:
-                    yield value
+                if value is None:
+                    trust.record(explored, False)
+                else:
+                    yield self._yielded(value, trust, explored)
 
 
 def checkpoint_path(mechanism: "Mechanism") -> str:
