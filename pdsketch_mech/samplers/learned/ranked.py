@@ -11,14 +11,15 @@ reorders, it never removes, so the planner stays as complete as with the generic
 A batch is small on purpose. The best of many proposals by a classifier's score is the one
 it overrates most (the optimizer's curse), all the more on a shape it never saw: on
 Slope-and-Blocker the best of 64 placements slid off the slope where a random one held.
-Measured (learned runs, 10 test instances, median values simulated): Slope-and-Blocker 139
-with batches of 64, 39 with 16 (generic: 136); Hook 329 with 64, 252 with 16, 392 with 8
-(generic: 479).
+Measured (learned runs, 10 test instances, one run each with planner seed 0, median values
+simulated): Slope-and-Blocker 139 with batches of 64, 39 with 16 (generic: 136); Hook 329
+with 64, 252 with 16, 392 with 8 (generic: 479).
 
-How often the walk explores is not fixed: each pick's outcome (its proposal verified and its
-step simulated as the skeleton expects, or not) is counted per mechanism grounding, and
-evidence that random picks do better than the learned ones raises the chance (trust.py):
-a classifier wrong about a shape it never saw is walked in the generic order instead.
+How often the walk explores is not fixed: each pick's outcome (its proposal verified, its
+step simulated as the skeleton expects and the mechanism's next step after it, or not) is
+counted per mechanism grounding, and evidence that random picks do better than the learned
+ones raises the chance (trust.py): a classifier wrong about a shape it never saw is walked
+in the generic order instead.
 """
 from __future__ import annotations
 
