@@ -98,8 +98,9 @@ class StepSampler:
         for (_, mechanism, variable), sampler in sorted(self._ranked.items()):
             for record in sampler.trust.values():
                 row = out.setdefault(f"{mechanism} {variable}", {"learned": [0, 0], "random": [0, 0], "explore": 0.0})
-                row["learned"] = [row["learned"][0] + record.learned_ok, row["learned"][1] + record.learned_failed]
-                row["random"] = [row["random"][0] + record.random_ok, row["random"][1] + record.random_failed]
+                for arm, counts in (("learned", (record.learned_ok, record.learned_failed)),
+                                    ("random", (record.random_ok, record.random_failed))):
+                    row[arm] = [row[arm][0] + counts[0], row[arm][1] + counts[1]]
                 row["explore"] = max(row["explore"], round(record.explore_chance(), 3))
         return out
 

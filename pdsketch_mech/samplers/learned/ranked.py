@@ -141,8 +141,9 @@ class RankedSampler(Sampler):
     def outcome(self, value: object, ok: bool) -> None:
         """The step `value` was drawn for simulated as the skeleton expects (`ok`) or not;
         counted once per value, and only for values this sampler yielded from a walk."""
+        # The entry holds its value, so no other live object can have the id it is keyed by.
         entry = self._pending.pop(id(value), None)
-        if entry is not None and entry[0] is value:
+        if entry is not None:
             entry[1].record(entry[2], ok)
 
     def _yielded(self, value: object, trust: Trust, explored: bool) -> object:
