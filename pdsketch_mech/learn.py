@@ -102,6 +102,10 @@ def _selfplay_options() -> ArgumentParser:
                       help="seconds per episode, a safety net (default 300)")
     play.add_argument("--fragment", metavar="FILE", help="the mechanism's fragment (default domains/mechanisms/NAME.pddl)")
     play.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's)")
+    play.add_argument("--grounding", choices=("goal", "any"), default="goal",
+                      help="which groundings an episode draws from: goal (default): those whose certified facts "
+                           "achieve part of the instance's goal, as the planner grounds it; any: every one whose "
+                           "precondition holds (the paper's random grounding)")
     play.add_argument("--backend", choices=("local", "ray"), default="local",
                       help="local: K processes; ray: K Ray tasks at a time (a local instance, or RAY_ADDRESS's cluster)")
     return play
@@ -275,7 +279,8 @@ def train_command(args) -> int:
     from .learning.selfplay_store import open_folder
     command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(args.episodes),
                         "--seed", str(args.seed), "--budget", str(args.budget)]
-                       + (["--epochs", str(args.epochs)] if args.epochs is not None else []))
+                       + (["--epochs", str(args.epochs)] if args.epochs is not None else [])
+                       + (["--grounding", args.grounding] if args.grounding != "goal" else []))
     info = {"command": command, "task": config.task, "seconds_selfplay": selfplay_s}
     try:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
@@ -328,7 +333,7 @@ def _prepare_selfplay(args):
     if args.out is not None and not os.path.isdir(parent):
         return fail(f"--out {out}: folder {os.path.dirname(out) or '.'} does not exist")
     config = SelfPlayConfig(mechanism.name, os.path.abspath(fragment), task, args.seed, args.budget, args.time_limit,
-                            split)
+                            split, args.grounding)
     try:
         os.makedirs(out, exist_ok=True)
         open_folder(out, config.identity())

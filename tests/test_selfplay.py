@@ -128,6 +128,51 @@ def test_another_configuration_is_refused(straight):
         run_selfplay(other, straight, 3)
 
 
+def _slope_task():
+    """A Slope-and-Blocker train instance with a distractor: 18 applicable groundings."""
+    from pdsketch_mech.envs.generate import sample as sample_instance
+    from pdsketch_mech.envs.tasks import TASKS
+    from pdsketch_mech.lang.loader import load_domain
+    from pdsketch_mech.lang.parser import parse_text
+    from pdsketch_mech.planner.bilevel import prepare_task
+
+    instance = sample_instance(TASKS["slope-blocker"], "train", episode_seeds(0, 0)[0])
+    problem = parse_text(instance.problem_text(), file="<instance>")
+    task, _ = prepare_task(load_domain([default_fragment("slope-blocker")]), problem, use_mechanisms=True)
+    return task
+
+
+def test_goal_grounding_keeps_the_groundings_that_serve_the_goal():
+    """"goal" draws from the groundings whose certified facts put the goal's target on the goal's
+    surface; the blocker stays a free choice (the distractor too). "any" keeps every applicable one,
+    among them those that promise to put the target on what it leaves."""
+    from pdsketch_mech.learning.selfplay import episode_groundings
+
+    task = _slope_task()
+    args = lambda ids: [task.operators[i].args for i in ids]  # noqa: E731
+    goal = args(episode_groundings(task, "slope-blocker", "goal"))
+    assert goal == [("blocker", "block", "table", "slope"), ("d0", "block", "table", "slope")]
+    every = args(episode_groundings(task, "slope-blocker", "any"))
+    assert len(every) == 18 and set(goal) < set(every) and ("blocker", "block", "table", "table") in every
+    with pytest.raises(ValueError, match="grounding policy"):
+        episode_groundings(task, "slope-blocker", "some")
+
+
+def test_a_folder_older_than_grounding_policies_resumes_as_any(tmp_path):
+    from pdsketch_mech.learning.selfplay_store import StoreError, open_folder, read_manifest
+    from dataclasses import replace
+    import json
+
+    any_config = replace(CONFIG, grounding="any")
+    identity = any_config.identity()
+    legacy = {k: v for k, v in identity.items() if k != "grounding"}
+    (tmp_path / "manifest.json").write_text(json.dumps({"schema": "pdsketch_mech.selfplay/2", "config": legacy}))
+    assert read_manifest(str(tmp_path))["config"]["grounding"] == "any"
+    open_folder(str(tmp_path), identity)   # resumes
+    with pytest.raises(StoreError, match="grounding 'any'"):
+        open_folder(str(tmp_path), CONFIG.identity())
+
+
 def test_pickling_a_world_is_an_error():
     with World() as world:
         with pytest.raises(TypeError, match="cannot be pickled"):
@@ -142,6 +187,7 @@ def test_task_of_a_mechanism():
 @pytest.mark.parametrize("argv, message", [
     (["nope"], "no such file"),
     (["com", "--backend", "dask"], "invalid choice"),
+    (["com", "--grounding", "all"], "invalid choice"),
     (["com", "--task", "juggling"], "unknown task"),
     (["com", "--out", "/nonexistent-folder/x"], "does not exist"),
     (["com", "--episodes", "0"], "must be a whole number >= 1"),

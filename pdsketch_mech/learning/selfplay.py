@@ -5,6 +5,15 @@ distractors included), grounds the mechanism on a random choice of the objects p
 whose precondition holds symbolically (the learner is not told which object plays which
 role), fixes the skeleton to the mechanism's steps and runs the continuous search with the
 generic samplers under a budget.
+
+Which groundings the random choice ranges over is the config's `grounding`:
+  "goal" (default): those whose :certified facts achieve a goal fact the instance lacks,
+      the groundings the planner will ask the mechanism for on the task (the objects of
+      roles the goal does not name, a tool or a blocker, are still a random choice among
+      all present, distractors included); if none does, every consistent one;
+  "any": every grounding whose precondition holds (the paper's RandomGrounding), even one
+      whose :certified facts contradict each other (put the target on what it leaves),
+      which no search can achieve: on Slope-and-Blocker 2 of 18 groundings serve the goal.
 Every value drawn, and every proposal that failed verification, is logged
 (selfplay_record.py) and labelled 1 if the successful plan used it, 0 otherwise.
 
@@ -53,11 +62,12 @@ class SelfPlayConfig:
     budget: int = 400       # work units per episode (samples drawn and simulated, samplers running dry)
     time_limit: float = 300.0  # seconds per episode, a safety net (hitting it is recorded)
     split: str = "train"    # "test": data to evaluate classifiers on (`learn evaluate`), never to train
+    grounding: str = "goal"  # which groundings an episode draws from: "goal" or "any" (see above)
 
     def identity(self) -> Dict[str, object]:
         """What must match for two runs to write into the same folder."""
         return {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
-                "time_limit": self.time_limit, "split": self.split}
+                "time_limit": self.time_limit, "split": self.split, "grounding": self.grounding}
 
 
 def episode_seeds(base: int, episode: int) -> Tuple[int, int]:
@@ -102,6 +112,30 @@ def groundings(task: StripsTask, mechanism: str) -> List[int]:
     return sorted(out, key=lambda i: task.operators[i].args)
 
 
+def _consistent(task: StripsTask, op_id: int) -> bool:
+    """Some alternative of the macro's :certified facts neither contradicts itself nor holds already."""
+    return any(not true & false and (true & ~task.init or false & task.init)
+               for true, false in task.operators[op_id].certified)
+
+
+def _serves_goal(task: StripsTask, op_id: int) -> bool:
+    """Some consistent alternative of the macro's :certified facts adds a goal fact missing initially."""
+    missing = task.goal & ~task.init
+    return any(not true & false and true & missing and not true & task.goal_neg
+               for true, false in task.operators[op_id].certified)
+
+
+def episode_groundings(task: StripsTask, mechanism: str, policy: str) -> List[int]:
+    """The groundings an episode chooses from under `policy` ("goal" or "any"), in a fixed order."""
+    applicable = groundings(task, mechanism)
+    if policy == "any":
+        return applicable
+    if policy != "goal":
+        raise ValueError(f"unknown grounding policy {policy!r} (goal, any)")
+    serving = [i for i in applicable if _serves_goal(task, i)]
+    return serving or [i for i in applicable if _consistent(task, i)] or applicable
+
+
 def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
     """One self-play episode -> its arrays (see `episode_arrays`). Builds and closes its own world."""
     instance_seed, planner_seed = episode_seeds(config.seed, episode)
@@ -113,7 +147,7 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
     assert isinstance(problem, Problem)
     task, placeholders = prepare_task(loaded, problem, use_mechanisms=True)
     # Only the mechanism's own macros: the skeleton is fixed, so basis operators are not needed.
-    candidates = groundings(task, mechanism.name)
+    candidates = episode_groundings(task, mechanism.name, config.grounding)
     started = time.perf_counter()
     with build_world(problem) as world:
         settle_start(world)
