@@ -276,8 +276,11 @@ def train_command(args) -> int:
     selfplay_s = time.perf_counter() - started
     if status != EXIT_OK:
         return status
-    from .learning.selfplay_store import open_folder
-    command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(args.episodes),
+    from .learning.selfplay_store import done_episodes, open_folder
+    # Training reads every episode on disk: the command that reproduces the checkpoint names
+    # them all, also when an earlier run left more than this one asked for.
+    episodes = max(args.episodes, max(done_episodes(out), default=-1) + 1)
+    command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(episodes),
                         "--seed", str(args.seed), "--budget", str(args.budget)]
                        + (["--epochs", str(args.epochs)] if args.epochs is not None else [])
                        + (["--grounding", args.grounding] if args.grounding != "goal" else []))

@@ -324,6 +324,13 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
                        "--fragment", com_fragment, "--task", "com"]) == 2  # not replaced without --force
     assert "exists: --force replaces it" in capsys.readouterr().err
+    # Training reads all 4 episodes on disk, so the recorded command asks for 4, not 2.
+    assert learn.main(["train", "com", "--episodes", "2", "--epochs", "2", "--out", data,
+                       "--fragment", com_fragment, "--task", "com", "--force"]) == 0
+    import json
+    with open(os.path.join(folder, "com.samplers.json"), encoding="utf-8") as handle:
+        meta = json.load(handle)
+    assert meta["episodes"] == 4 and "--episodes 4 " in meta["command"] + " "
     problem = str(tmp_path / "p.pddl")
     from pdsketch_mech.envs.generate import sample
     from pdsketch_mech.envs.tasks import TASKS
@@ -332,7 +339,6 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     capsys.readouterr()
     result = str(tmp_path / "plan.json")
     assert plan.main([com_fragment, problem, "--timeout", "120", "--json", result]) == 0
-    import json
     with open(result, encoding="utf-8") as handle:
         stats = json.load(handle)["stats"]
     assert stats["learned_samplers"] == ["com"] and stats["proposals"]["learned"].get("grasp", 0) > 0
