@@ -279,7 +279,7 @@ def train_command(args) -> int:
     from .learning.selfplay_store import done_episodes, open_folder
     # Training reads every episode on disk: the command that reproduces the checkpoint names
     # them all, also when an earlier run left more than this one asked for.
-    episodes = max(args.episodes, max(done_episodes(out), default=-1) + 1)
+    episodes = max(done_episodes(out)) + 1   # self-play succeeded: at least 0..--episodes-1 are there
     command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(episodes),
                         "--seed", str(args.seed), "--budget", str(args.budget)]
                        + (["--epochs", str(args.epochs)] if args.epochs is not None else [])

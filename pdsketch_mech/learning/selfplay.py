@@ -112,17 +112,20 @@ def groundings(task: StripsTask, mechanism: str) -> List[int]:
     return sorted(out, key=lambda i: task.operators[i].args)
 
 
+def _promises(task: StripsTask, op_id: int) -> List[Tuple[int, int]]:
+    """The alternatives of the macro's :certified facts that do not contradict themselves."""
+    return [(true, false) for true, false in task.operators[op_id].certified if not true & false]
+
+
 def _consistent(task: StripsTask, op_id: int) -> bool:
-    """Some alternative of the macro's :certified facts neither contradicts itself nor holds already."""
-    return any(not true & false and (true & ~task.init or false & task.init)
-               for true, false in task.operators[op_id].certified)
+    """Some promise of the macro does not hold already."""
+    return any(true & ~task.init or false & task.init for true, false in _promises(task, op_id))
 
 
 def _serves_goal(task: StripsTask, op_id: int) -> bool:
-    """Some consistent alternative of the macro's :certified facts adds a goal fact missing initially."""
+    """Some promise of the macro adds a goal fact missing initially (and none the goal wants false)."""
     missing = task.goal & ~task.init
-    return any(not true & false and true & missing and not true & task.goal_neg
-               for true, false in task.operators[op_id].certified)
+    return any(true & missing and not true & task.goal_neg for true, _ in _promises(task, op_id))
 
 
 def episode_groundings(task: StripsTask, mechanism: str, policy: str) -> List[int]:
