@@ -144,7 +144,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     try:
         while time.perf_counter() < deadline:
             can_create = (more and stats["skeletons"] < max_skeletons) or bool(deferred)
-            turn = next_turn(((r.rank, r.effort) for r in active.values()),
+            turn = next_turn(((r.rank, r.effort, sampler.promise.weight(r.groundings())) for r in active.values()),
                              stats["skeletons"] + 1 if can_create else None)
             if turn is None:
                 break
@@ -207,6 +207,9 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
 def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
     entry = stats["skeleton_log"][refinement.rank - 1]
     entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
+    weight = refinement.sampler.promise.weight(refinement.groundings())
+    if weight < 1.0:  # learned samplers held it back (promise.py)
+        entry["weight"] = round(weight, 3)
     stats["executions"] += refinement.executions
     stats["refined"] += refinement.executions > 0
     stats["rejected"] += refinement.rejected

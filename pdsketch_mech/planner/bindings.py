@@ -21,6 +21,7 @@ from ..samplers.interface import Sampler, SampleRequest, StepContext
 from ..samplers.registry import GENERIC_SAMPLERS
 from ..symbolic.optimistic import Placeholder, is_placeholder
 from ..world.world import World
+from .promise import GroundingPromise
 
 if TYPE_CHECKING:
     from ..samplers.learned.ranked import LearnedMechanism
@@ -49,6 +50,7 @@ class StepSampler:
         self.observers: List[SampleObserver] = []
         self.verify_observers: List[VerifyObserver] = []
         self._ranked: Dict[Tuple[str, str, str], Sampler] = {}
+        self.promise = GroundingPromise()   # what the learned samplers think of each grounding
 
     def sampler_for(self, stream: str, step: StepContext, placeholder: str) -> Sampler:
         """The stream's generic sampler, ranked by a classifier if the step's mechanism has one
@@ -60,7 +62,10 @@ class StepSampler:
         key = (stream, step.mechanism, variable)
         if key not in self._ranked:
             from ..samplers.learned.ranked import RankedSampler
-            self._ranked[key] = RankedSampler(self.samplers[stream], learned, variable)
+            ranked = RankedSampler(self.samplers[stream], learned, variable)
+            ranked.on_scores = lambda request, scores: self.promise.observe(
+                request.step.mechanism, request.step.mechanism_args, variable, float(np.max(scores)))
+            self._ranked[key] = ranked
         return self._ranked[key]
 
     def proposals(self) -> Dict[str, Dict[str, int]]:

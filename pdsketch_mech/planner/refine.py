@@ -165,6 +165,11 @@ class Refinement:
                 self.depth -= 1
         return None
 
+    def groundings(self) -> List[Tuple[Tuple[str, Tuple[str, ...]], Tuple[Tuple[int, int], ...]]]:
+        """The skeleton's mechanism groundings, (mechanism, its object arguments), each with
+        what it promises (its last step's certified facts)."""
+        return [((s.mechanism, s.mechanism_args), s.certified) for s in self.steps if s.certified]
+
     def _continues(self, i: int) -> bool:
         """Whether step i + 1 is the next step of step i's mechanism."""
         step, following = self.steps[i], self.steps[i + 1] if i + 1 < len(self.steps) else None

@@ -23,6 +23,10 @@ with 4, 16-21 s with 2; the hook-use mechanism solves Hook in a median 17 / 20 /
 (5 seeds). Work is counted in units (samples drawn
 and simulated, samplers running dry), never in seconds: the same seed gives the same plan
 whatever the machine's load.
+
+A skeleton's score is divided by its weight in (0, 1]: with learned samplers, how its
+mechanism groundings compare with the best ones in the classifiers' eyes (promise.py); 1
+without them. A skeleton of weight w gets about w times the share of work of its rank.
 """
 from __future__ import annotations
 
@@ -33,17 +37,17 @@ EXPONENT = 1.0
 SLICE = 4           # work units per turn
 
 
-def score(rank: int, effort: int) -> float:
-    return (effort + ENTRY) * rank ** EXPONENT
+def score(rank: int, effort: int, weight: float = 1.0) -> float:
+    return (effort + ENTRY) * rank ** EXPONENT / weight
 
 
-def next_turn(active: Iterable[Tuple[int, int]], next_rank: Optional[int]) -> Optional[int]:
-    """The rank of the skeleton to work on next among `active` (rank, effort) pairs, or
-    `next_rank` if a new skeleton should be created first (None: no more skeletons).
-    Returns None when there is nothing left at all."""
+def next_turn(active: Iterable[Tuple[int, ...]], next_rank: Optional[int]) -> Optional[int]:
+    """The rank of the skeleton to work on next among `active` (rank, effort[, weight])
+    tuples, or `next_rank` if a new skeleton should be created first (None: no more
+    skeletons; a new one has weight 1). Returns None when there is nothing left at all."""
     best: Optional[Tuple[float, int]] = None
-    for rank, effort in active:
-        candidate = (score(rank, effort), rank)
+    for rank, effort, *weight in active:
+        candidate = (score(rank, effort, *weight), rank)
         if best is None or candidate < best:
             best = candidate
     if next_rank is not None and (best is None or score(next_rank, 0) <= best[0]):

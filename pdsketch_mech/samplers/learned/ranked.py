@@ -132,6 +132,8 @@ class RankedSampler(Sampler):
             pool = 0 if classifier.spec.kind == "push" or learned.ranks_proposals(variable) else POOL
         self.pool = pool  # 0: rank proposals
         self.trust: Dict[Tuple[str, ...], Trust] = {}   # per mechanism grounding
+        # Told of every scored batch: (the request, the scores), e.g. planner/promise.py.
+        self.on_scores: Optional[Callable[[SampleRequest, np.ndarray], None]] = None
         self._pending: Dict[int, Tuple[object, Trust, bool]] = {}  # id(value) -> (value, its trust, explored)
 
     def trust_for(self, request: SampleRequest) -> Trust:
@@ -179,10 +181,16 @@ class RankedSampler(Sampler):
                 limit = examined  # the proposals ran out: this pool is the last
             if not pool:
                 return
-            scores = self.learned.score(world, request, self.variable, pool)
+            scores = self._scored(world, request, pool)
             trust = self.trust_for(request)
             for index, explored in walk(scores, rng, trust.explore_chance):
                 yield self._yielded(pool[index], trust, explored)
+
+    def _scored(self, world: "World", request: SampleRequest, proposals: List[object]) -> np.ndarray:
+        scores = self.learned.score(world, request, self.variable, proposals)
+        if self.on_scores is not None:
+            self.on_scores(request, scores)
+        return scores
 
     def propose(self, world, request, rng, budget):
         return self.generic.propose(world, request, rng, budget)
@@ -201,7 +209,7 @@ class RankedSampler(Sampler):
             batch = list(islice(proposals, BATCH))
             if not batch:
                 return
-            scores = self.learned.score(world, request, self.variable, batch)
+            scores = self._scored(world, request, batch)
             trust = self.trust_for(request)
             for index, explored in walk(scores, rng, trust.explore_chance):
                 if examined >= limit or time.perf_counter() > request.deadline:

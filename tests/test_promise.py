@@ -1,0 +1,120 @@
+"""Learned samplers weigh skeletons (planner/promise.py): a grounding its classifiers score far
+below a rival that promises the same gets a smaller share of the work, never none."""
+from __future__ import annotations
+
+import math
+from collections import Counter
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from pdsketch_mech.planner import schedule
+from pdsketch_mech.planner.bindings import StepSampler
+from pdsketch_mech.planner.promise import FLOOR, GroundingPromise
+from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
+
+TOOL, APPLE, TOOL_AS_TARGET = ("hook", ("tool", "box", "table")), ("hook", ("apple", "box", "table")), \
+    ("hook", ("apple", "tool", "table"))
+HOLD_BOX, HOLD_TOOL = ((1, 0),), ((2, 0),)   # what each grounding promises (certified masks)
+
+
+def test_a_grounding_scored_below_its_rival_is_held_back_by_the_gap():
+    promise = GroundingPromise()
+    for best in (-1.0, -2.0):                    # two batches each: means -1.5 and -3.5
+        promise.observe(*TOOL, "?g", best)
+        promise.observe(*APPLE, "?g", best - 2.0)
+    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+    assert promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
+    promise.observe(*APPLE, "?c", -12.0)          # a variable only the apple reached: no rival yet
+    assert promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
+    promise.observe(*TOOL, "?c", -1.0)            # now there is, and the gap is large: the floor
+    assert promise.weight([(APPLE, HOLD_BOX)]) == FLOOR
+    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+
+
+def test_rivals_are_compared_on_the_sum_over_the_variables_both_were_scored_on():
+    """The apple's grasps score higher, the tool's contacts much higher: the tool is ahead."""
+    promise = GroundingPromise()
+    promise.observe(*TOOL, "?g", -2.0)
+    promise.observe(*APPLE, "?g", -1.0)
+    promise.observe(*TOOL, "?c", -1.0)
+    promise.observe(*APPLE, "?c", -3.5)
+    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+    assert promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-1.5))
+
+
+def test_groundings_that_promise_other_facts_are_not_rivals():
+    """Pulling the tool with the apple serves another subgoal; its high scores say nothing
+    about which object should pull the box."""
+    promise = GroundingPromise()
+    promise.observe(*TOOL, "?g", -3.0)
+    promise.observe(*TOOL_AS_TARGET, "?g", -0.1)
+    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+    assert promise.weight([(TOOL_AS_TARGET, HOLD_TOOL)]) == 1.0
+    promise.observe(*APPLE, "?g", -5.0)
+    # A skeleton with two groundings pays for both gaps.
+    assert promise.weight([(TOOL_AS_TARGET, HOLD_TOOL), (APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
+
+
+def test_unscored_groundings_and_non_finite_scores_change_nothing():
+    promise = GroundingPromise()
+    assert promise.weight([]) == 1.0 and promise.weight([(APPLE, HOLD_BOX)]) == 1.0
+    promise.observe(*APPLE, "?g", -math.inf)     # a batch of proposals with no encoding
+    assert promise.mean(APPLE, "?g") is None
+
+
+def test_a_skeleton_gets_about_its_weight_times_the_work_of_its_rank():
+    efforts = {1: 0, 2: 0}
+    weights = {1: 1.0, 2: 0.1}
+    for _ in range(2000):
+        turn = schedule.next_turn(((r, e, weights[r]) for r, e in efforts.items()), None)
+        efforts[turn] += schedule.SLICE
+    # rank 2 alone would get half of rank 1's work; weighed by 0.1, a twentieth
+    assert efforts[2] / efforts[1] == pytest.approx(0.05, rel=0.2)
+    # and a weight of 1 is the unweighted schedule
+    assert schedule.next_turn([(1, 8, 1.0), (2, 2, 1.0)], None) == schedule.next_turn([(1, 8), (2, 2)], None)
+
+
+class Numbers(Sampler):
+    """Proposes 0..n-1 and verifies them all."""
+
+    def __init__(self, n):
+        self.n = n
+
+    def propose(self, world, request, rng, budget):
+        return iter(range(self.n))
+
+    def verify(self, world, request, candidate, rng):
+        return float(candidate)
+
+
+class ByValue:
+    """A stand-in for a mechanism's classifiers: higher numbers score higher (as log odds)."""
+
+    score_seconds: list = []
+    model = SimpleNamespace(classifier=lambda variable: SimpleNamespace(spec=SimpleNamespace(kind="grasp")))
+
+    def __contains__(self, variable):
+        return variable == "?g"
+
+    def ranks_proposals(self, variable):
+        return True
+
+    def score(self, world, request, variable, proposals):
+        offset = 0.0 if request.step.mechanism_args[0] == "tool" else -3.0
+        return np.array(proposals, dtype=float) - 10.0 + offset
+
+
+def test_the_step_sampler_tells_the_promise_what_its_learned_samplers_scored():
+    steps = StepSampler({}, {}, Counter(), {"hook": ByValue()})
+    steps.samplers["sample-grasp"] = Numbers(4)
+    for grounding in (TOOL, APPLE):
+        context = StepContext("grasp", (grounding[1][0], "#g1"), "hook", grounding[1], 0, (("#g1", "?g"),))
+        sampler = steps.sampler_for("sample-grasp", context, "#g1")
+        request = SampleRequest("sample-grasp", (), (), context)
+        assert list(sampler.draw(None, request, np.random.default_rng(0), budget=4))
+    assert steps.promise.mean(TOOL, "?g") == pytest.approx(3.0 - 10.0)   # the batch's best
+    # The planner asks for every active skeleton's weight each turn, which makes them rivals.
+    assert steps.promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+    assert steps.promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
