@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdsketch_mech.samplers.interface import Sampler
 from pdsketch_mech.samplers.learned.specs import EncoderConfig
 
 TINY = EncoderConfig(centres=(16, 4), radii=(0.4, 0.8), neighbours=8, widths1=(8, 16), widths2=(16, 16), out=16)
@@ -32,3 +33,23 @@ def synthetic_episodes(count: int, seed: int = 0):
             "poses": np.tile(np.array([[0.5, 0.0, 0.03, 0, 0, 0, 1], [0.6, 0, 0, 0, 0, 0, 1]]), (n + 1, 1, 1)),
         })
     return episodes
+
+
+class Numbers(Sampler):
+    """A stand-in generic sampler: proposes 0..n-1; verifies the even ones."""
+
+    def __init__(self, n):
+        self.n = n
+
+    def propose(self, world, request, rng, budget):
+        return iter(range(self.n))
+
+    def verify(self, world, request, candidate, rng):
+        return candidate if candidate % 2 == 0 else None
+
+
+class AllVerify(Numbers):
+    """... that verifies them all."""
+
+    def verify(self, world, request, candidate, rng):
+        return float(candidate)   # a new object per proposal, as real values are

@@ -17,7 +17,7 @@ from pdsketch_mech import learn, plan
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.learning.sampler_data import param_data, parent_specs
 from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, to_batch, train_mechanism
-from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
+from pdsketch_mech.samplers.interface import SampleRequest, StepContext
 from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, load_numpy, save
 from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
 from pdsketch_mech.samplers.learned.forward import NumpyClassifiers
@@ -26,7 +26,7 @@ from pdsketch_mech.samplers.learned.ranked import EXPLORE, RankedSampler, walk
 from pdsketch_mech.samplers.learned.trust import Trust
 from pdsketch_mech.samplers.learned.specs import ParamSpec
 
-from learned_data import TINY, synthetic_episodes
+from learned_data import TINY, AllVerify, Numbers, synthetic_episodes
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -219,19 +219,6 @@ def test_trust_keeps_the_learned_order_unless_random_picks_do_better():
     assert doubt.explore_chance() > 0.95                     # and random ones work: the generic order
 
 
-class Numbers(Sampler):
-    """Proposes 0..n-1; verifies the even ones."""
-
-    def __init__(self, n):
-        self.n = n
-
-    def propose(self, world, request, rng, budget):
-        return iter(range(self.n))
-
-    def verify(self, world, request, candidate, rng):
-        return candidate if candidate % 2 == 0 else None
-
-
 class ByValue:
     """A stand-in scorer: higher numbers first."""
 
@@ -251,11 +238,6 @@ def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
     pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3)      # a grasp: rank verified values
     assert list(pooled.draw(None, request, np.random.default_rng(0), budget=10)) == [4, 2, 0, 8, 6]
     assert pooled.examined == 10
-
-
-class AllVerify(Numbers):
-    def verify(self, world, request, candidate, rng):
-        return float(candidate)   # a new object per proposal, as real values are
 
 
 def test_a_ranked_sampler_that_keeps_failing_falls_back_to_the_generic_order():

@@ -12,7 +12,9 @@ import pytest
 from pdsketch_mech.planner import schedule
 from pdsketch_mech.planner.bindings import StepSampler
 from pdsketch_mech.planner.promise import FLOOR, GroundingPromise
-from pdsketch_mech.samplers.interface import Sampler, SampleRequest, StepContext
+from pdsketch_mech.samplers.interface import SampleRequest, StepContext
+
+from learned_data import AllVerify
 
 TOOL, APPLE, TOOL_AS_TARGET = ("hook", ("tool", "box", "table")), ("hook", ("apple", "box", "table")), \
     ("hook", ("apple", "tool", "table"))
@@ -76,19 +78,6 @@ def test_a_skeleton_gets_about_its_weight_times_the_work_of_its_rank():
     assert schedule.next_turn([(1, 8, 1.0), (2, 2, 1.0)], None) == schedule.next_turn([(1, 8), (2, 2)], None)
 
 
-class Numbers(Sampler):
-    """Proposes 0..n-1 and verifies them all."""
-
-    def __init__(self, n):
-        self.n = n
-
-    def propose(self, world, request, rng, budget):
-        return iter(range(self.n))
-
-    def verify(self, world, request, candidate, rng):
-        return float(candidate)
-
-
 class ByValue:
     """A stand-in for a mechanism's classifiers: higher numbers score higher (as log odds)."""
 
@@ -108,7 +97,7 @@ class ByValue:
 
 def test_the_step_sampler_tells_the_promise_what_its_learned_samplers_scored():
     steps = StepSampler({}, {}, Counter(), {"hook": ByValue()})
-    steps.samplers["sample-grasp"] = Numbers(4)
+    steps.samplers["sample-grasp"] = AllVerify(4)
     for grounding in (TOOL, APPLE):
         context = StepContext("grasp", (grounding[1][0], "#g1"), "hook", grounding[1], 0, (("#g1", "?g"),))
         sampler = steps.sampler_for("sample-grasp", context, "#g1")
