@@ -12,14 +12,16 @@ plan's work went into skeletons that use a distractor as the tool.
 
 `GroundingPromise` keeps, per mechanism grounding and learned variable, the mean of the
 batches' best scores, and weighs a skeleton by how far its groundings fall behind their best
-rivals, compared on the variables both were scored on: exp(sum of the gaps), never below
-FLOOR. Rivals are
-the groundings of the same mechanism that promise the same facts (its :certified, grounded):
-the ways to reach the same subgoal. A Hook grounding that pulls the tool with the apple
-serves another subgoal (the tool within reach) and scores high for it; it says nothing about
-which object should pull the box. Never below FLOOR, so every skeleton still gets its share in the end (the planner stays complete) and a
-classifier wrong about a shape costs at most a constant factor. A grounding no batch has
-scored yet is not held back: its weight is 1 until the classifiers have seen it.
+rivals: exp(sum of the gaps), never below FLOOR, so every skeleton still gets its share in
+the end (the planner stays complete) and a classifier wrong about a shape costs at most a
+constant factor. Rivals are the groundings of the same mechanism that promise the same facts
+(its :certified, grounded): the ways to reach the same subgoal. A Hook grounding that pulls
+the tool within reach with the apple serves another subgoal and scores high for it; it says
+nothing about which object should pull the box. Two rivals are compared on the sum over the
+variables both were scored on. A grounding no batch has scored yet is not held back.
+
+An earlier weighting by a grounding's own best score, against no rival, helped where the
+classifier was right and hurt where it was not, and was dropped (README).
 """
 from __future__ import annotations
 
