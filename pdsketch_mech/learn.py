@@ -106,6 +106,9 @@ def _selfplay_options() -> ArgumentParser:
                       help="which groundings an episode draws from: goal (default): those whose certified facts "
                            "achieve part of the instance's goal, as the planner grounds it; any: every one whose "
                            "precondition holds (the paper's random grounding)")
+    play.add_argument("--context", type=int, choices=range(0, 4), default=0, metavar="N",
+                      help="also record the N bodies nearest the mechanism's movable objects (a tunnel around "
+                           "the block), so its classifiers see them (0-3, default 0)")
     play.add_argument("--backend", choices=("local", "ray"), default="local",
                       help="local: K processes; ray: K Ray tasks at a time (a local instance, or RAY_ADDRESS's cluster)")
     return play
@@ -283,7 +286,8 @@ def train_command(args) -> int:
     command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(episodes),
                         "--seed", str(args.seed), "--budget", str(args.budget)]
                        + (["--epochs", str(args.epochs)] if args.epochs is not None else [])
-                       + (["--grounding", args.grounding] if args.grounding != "goal" else []))
+                       + (["--grounding", args.grounding] if args.grounding != "goal" else [])
+                       + (["--context", str(args.context)] if args.context else []))
     info = {"command": command, "task": config.task, "seconds_selfplay": selfplay_s}
     try:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
@@ -336,7 +340,7 @@ def _prepare_selfplay(args):
     if args.out is not None and not os.path.isdir(parent):
         return fail(f"--out {out}: folder {os.path.dirname(out) or '.'} does not exist")
     config = SelfPlayConfig(mechanism.name, os.path.abspath(fragment), task, args.seed, args.budget, args.time_limit,
-                            split, args.grounding)
+                            split, args.grounding, args.context)
     try:
         os.makedirs(out, exist_ok=True)
         open_folder(out, config.identity())
@@ -359,7 +363,9 @@ def _selfplay(args, config, out: str) -> int:
     counts = {"successes": 0, "samples": 0}
     command = " ".join(["python -m pdsketch_mech.learn selfplay", args.name, "--episodes", str(args.episodes),
                         "--seed", str(args.seed), "--budget", str(args.budget)]
-                       + (["--split", config.split] if config.split != "train" else []))
+                       + (["--split", config.split] if config.split != "train" else [])
+                       + (["--grounding", config.grounding] if config.grounding != "goal" else [])
+                       + (["--context", str(config.context)] if config.context else []))
     with tqdm(total=todo, file=sys.stderr, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}") as bar:
         def progress(row) -> None:
             counts["successes"] += row["success"]

@@ -158,6 +158,18 @@ def test_goal_grounding_keeps_the_groundings_that_serve_the_goal():
         episode_groundings(task, "slope-blocker", "some")
 
 
+def test_context_objects_are_recorded_after_the_mechanisms_own():
+    """--context 1: each episode also records the body nearest the mechanism's movable objects."""
+    from dataclasses import replace
+    from pdsketch_mech.learning.selfplay import run_episode
+    plain, wider = run_episode(CONFIG, 0), run_episode(replace(CONFIG, context=1), 0)
+    own = [str(o) for o in plain["episode_objects"][0]]
+    objects = [str(o) for o in wider["episode_objects"][0]]
+    assert len(objects) == 4 and objects[:3] == own and objects[3] not in own
+    assert wider["poses"].shape == (len(wider["label"]), 4, 7) and wider["episode_assets"].shape == (1, 4)
+    assert np.array_equal(wider["label"], plain["label"])   # the same episode, seen wider
+
+
 def test_a_folder_older_than_grounding_policies_resumes_as_any(tmp_path):
     from pdsketch_mech.learning.selfplay_store import StoreError, open_folder, read_manifest
     from dataclasses import replace
@@ -165,9 +177,10 @@ def test_a_folder_older_than_grounding_policies_resumes_as_any(tmp_path):
 
     any_config = replace(CONFIG, grounding="any")
     identity = any_config.identity()
-    legacy = {k: v for k, v in identity.items() if k != "grounding"}
+    legacy = {k: v for k, v in identity.items() if k not in ("grounding", "context")}
     (tmp_path / "manifest.json").write_text(json.dumps({"schema": "pdsketch_mech.selfplay/2", "config": legacy}))
     assert read_manifest(str(tmp_path))["config"]["grounding"] == "any"
+    assert read_manifest(str(tmp_path))["config"]["context"] == 0
     open_folder(str(tmp_path), identity)   # resumes
     with pytest.raises(StoreError, match="grounding 'any'"):
         open_folder(str(tmp_path), CONFIG.identity())
@@ -188,6 +201,7 @@ def test_task_of_a_mechanism():
     (["nope"], "no such file"),
     (["com", "--backend", "dask"], "invalid choice"),
     (["com", "--grounding", "all"], "invalid choice"),
+    (["com", "--context", "9"], "invalid choice"),
     (["com", "--task", "juggling"], "unknown task"),
     (["com", "--out", "/nonexistent-folder/x"], "does not exist"),
     (["com", "--episodes", "0"], "must be a whole number >= 1"),

@@ -41,9 +41,15 @@ def evaluate_command(args) -> int:
         model, meta = load(checkpoint, mechanism, os.path.abspath(fragment))
         episodes = read_episodes(data)
         held_out = held_out_episodes(data, episodes)
-        split = data_config(data)["split"]
+        config = data_config(data)
+        split = config["split"]
     except (CheckpointError, StoreError) as exc:
         return fail(str(exc))
+    # Classifiers trained with context objects (samplers/learned/context.py) read as many.
+    theirs, ours = int(meta.get("selfplay", {}).get("context", 0)), int(config.get("context", 0))
+    if theirs != ours:
+        return fail(f"{data}: self-play recorded {ours} context object(s) per episode, but {shown(checkpoint)} "
+                    f"was trained with {theirs}; play the data with --context {theirs}")
     if split == "train":
         print(f"warning: {data} holds train-split self-play: the classifiers may have been trained on these "
               "episodes, so the figures overstate what they do on new ones", file=sys.stderr)

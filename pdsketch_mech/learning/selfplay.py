@@ -46,6 +46,7 @@ from ..planner.refine import Refinement, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
 from ..samplers.learned.encoding import VALUE_WIDTH
+from ..samplers.learned.context import context_objects
 from .selfplay_record import MAX_PARENTS, SampleLog
 
 SLICE_UNITS = 16  # work units per call of the refinement: only how often the deadline is looked at
@@ -63,11 +64,13 @@ class SelfPlayConfig:
     time_limit: float = 300.0  # seconds per episode, a safety net (hitting it is recorded)
     split: str = "train"    # "test": data to evaluate classifiers on (`learn evaluate`), never to train
     grounding: str = "goal"  # which groundings an episode draws from: "goal" or "any" (see above)
+    context: int = 0        # nearest other bodies recorded with the mechanism's objects (learned/context.py)
 
     def identity(self) -> Dict[str, object]:
         """What must match for two runs to write into the same folder."""
         return {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
-                "time_limit": self.time_limit, "split": self.split, "grounding": self.grounding}
+                "time_limit": self.time_limit, "split": self.split, "grounding": self.grounding,
+                "context": self.context}
 
 
 def episode_seeds(base: int, episode: int) -> Tuple[int, int]:
@@ -161,7 +164,7 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
             values, units, timed_out = None, 0, False
         else:
             macro = task.operators[candidates[int(rng.integers(len(candidates)))]]
-            objects = tuple(macro.args)
+            objects = tuple(macro.args) + tuple(context_objects(world, macro.args, config.context))
             steps = skeleton_steps(task, [task.operators.index(macro)])
             log = SampleLog(world, objects, [[t.name for t in call.args] for call in mechanism.actions],
                             [q.name for q in mechanism.parameters], placeholders)

@@ -56,8 +56,8 @@ def read_episode(folder: str, episode: int) -> Dict[str, np.ndarray]:
 
 
 def read_manifest(folder: str) -> Optional[Dict[str, object]]:
-    """The manifest of `folder` (None if it has none), its configuration's split "train" and
-    grounding "any" when the folder predates them; StoreError if it cannot be read or is not self-play's."""
+    """The manifest of `folder` (None if it has none), its configuration's split "train",
+    grounding "any" and context 0 when the folder predates them; StoreError if it cannot be read or is not self-play's."""
     path = os.path.join(folder, "manifest.json")
     if not os.path.exists(path):
         return None
@@ -72,7 +72,7 @@ def read_manifest(folder: str) -> Optional[Dict[str, object]]:
                          "use another --out" if isinstance(found, str) and found.startswith("pdsketch_mech.selfplay/")
                          else f"{path}: not a self-play manifest ({SCHEMA})")
     # Folders older than these options were made the one way there was then.
-    manifest["config"] = {"split": "train", "grounding": "any", **manifest.get("config", {})}
+    manifest["config"] = {"split": "train", "grounding": "any", "context": 0, **manifest.get("config", {})}
     return manifest
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..interface import Sampler, SampleRequest
 from .checkpoint import load_numpy
+from .context import context_objects
 from .encoding import encode_as, encode_proposal, pose_array
 from .forward import NumpyClassifiers
 from .specs import width
@@ -56,6 +57,9 @@ class LearnedMechanism:
         self.model, self.meta = model, meta
         self.score_seconds: List[float] = []   # each batch's forward pass (stats)
         self._shapes: Dict[tuple, np.ndarray] = {}  # (variable, urdf) -> the shape's embedding
+        # Bodies nearest the mechanism's objects that self-play recorded with them (context.py).
+        self.context = int(meta.get("selfplay", {}).get("context", 0))
+        self._context: Dict[Tuple[str, ...], Tuple[str, ...]] = {}   # grounding -> its objects
 
     def __contains__(self, variable: object) -> bool:
         return variable in self.model
@@ -74,7 +78,7 @@ class LearnedMechanism:
         known = [i for i, v in enumerate(numbers) if v is not None]
         out = np.zeros(len(proposals))
         if known:
-            objects = request.step.mechanism_args
+            objects = self.objects(world, request)
             bodies = [world.bodies[o] for o in objects]
             by_variable = {request.step.role(k): v for k, v in request.parents.items()}
             parents = [by_variable.get(variable) for variable, _ in classifier.spec.parents]
@@ -90,10 +94,19 @@ class LearnedMechanism:
         self.score_seconds.append(time.perf_counter() - started)
         return out
 
+    def objects(self, world: "World", request: SampleRequest) -> Tuple[str, ...]:
+        """The objects the classifiers see: the mechanism's, then (for a checkpoint trained with
+        context) the bodies nearest them when the plan first scored the grounding, as
+        self-play chose them at the start of its episode."""
+        grounding = tuple(request.step.mechanism_args)
+        if grounding not in self._context:
+            self._context[grounding] = grounding + tuple(context_objects(world, grounding, self.context))
+        return self._context[grounding]
+
     def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> np.ndarray:
         """The mechanism objects' shape embeddings, computed once per shape."""
         rows = []
-        for name in request.step.mechanism_args:
+        for name in self.objects(world, request):
             urdf = world.bodies[name].urdf
             key = (variable, urdf)
             if key not in self._shapes:
