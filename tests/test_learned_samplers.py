@@ -121,7 +121,8 @@ def test_numpy_forward_pass_scores_as_torch_does():
     """Planning ranks with forward.py (no torch import); it must be the network training fitted."""
     from pdsketch_mech.samplers.learned.model import Batch, MechanismClassifiers
     torch.manual_seed(0)
-    specs = [ParamSpec("?c", "contact", (("?g", "grasp"), ("?t", "push")), 3),
+    specs = [ParamSpec("?c", "contact", (("?g", "grasp"), ("?t", "push")), 3, axes=True),
+             ParamSpec("?k", "contact", (), 2),   # a checkpoint from before directions were turned
              ParamSpec("?p", "placement", (("?g", "grasp"),), 2, outputs=1)]
     model = MechanismClassifiers(specs, TINY)
     with torch.no_grad():  # non-trivial statistics and priors, so that every term is exercised
@@ -154,6 +155,26 @@ def test_numpy_forward_pass_scores_as_torch_does():
         got = mirror.log_score(value, parents, present, sizes, poses, shapes[:m])
         np.testing.assert_allclose(got, expected, rtol=1e-4, atol=1e-4)
         assert np.ptp(got) > 1e-3  # the rows differ: the value reaches the score
+
+
+def test_a_contacts_directions_are_seen_in_each_objects_frame():
+    """With `axes`, a contact's normal and push direction are turned into every context
+    object's frame (where a push goes relative to the tunnel); specs without it (older
+    checkpoints) keep the old features and load as they were."""
+    from pdsketch_mech.samplers.learned.model import Batch, ParamClassifier
+    from pdsketch_mech.samplers.learned.specs import object_features
+    turned, old = ParamSpec("?c", "contact", (), 1, axes=True), ParamSpec.from_json(
+        {"variable": "?c", "kind": "contact", "parents": [], "objects": 1, "outputs": 2})
+    assert not old.axes and object_features(turned) == object_features(old) + 6
+    assert ParamSpec.from_json(turned.to_json()) == turned
+    value = torch.zeros(1, 16)
+    value[0, 13:16] = torch.tensor([1.0, 0.0, 0.0])                       # pushing along world x
+    quarter = torch.tensor([0.0, 0.0, 0.5 ** 0.5, 0.5 ** 0.5])   # an object turned 90 deg about z
+    poses = torch.cat([torch.zeros(3), quarter]).view(1, 1, 7)
+    batch = Batch(value, [], torch.zeros(1, 0), torch.zeros(1, 8, 3), torch.zeros(1, 1, dtype=torch.long),
+                  torch.ones(1, 1, 3), poses)
+    features = ParamClassifier(turned, TINY).object_inputs(batch)[0, 0]
+    assert torch.allclose(features[-3:], torch.tensor([0.0, -1.0, 0.0]), atol=1e-6)   # along the object's -y
 
 
 def test_checkpoint_round_trip_and_refusal(com_fragment, tmp_path):

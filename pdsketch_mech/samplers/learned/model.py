@@ -27,7 +27,7 @@ import torch
 from torch import nn
 
 from .pointnet import PointNetEncoder
-from .specs import ANCHORS, HIDDEN, POSE, SHAPE_PROJECTION, SIZE, EncoderConfig, ParamSpec, width
+from .specs import ANCHORS, AXES, HIDDEN, SHAPE_PROJECTION, EncoderConfig, ParamSpec, object_features, width
 
 
 @dataclass
@@ -83,10 +83,9 @@ class ParamClassifier(nn.Module):
     def __init__(self, spec: ParamSpec, encoder: EncoderConfig):
         super().__init__()
         self.spec = spec
-        anchors = 3 * len(ANCHORS[spec.kind])
         self.shape = PointNetEncoder(encoder)
         self.shape_projection = nn.Linear(encoder.out, SHAPE_PROJECTION)
-        object_inputs = POSE + SIZE + anchors
+        object_inputs = object_features(spec)
         self.object_norm = nn.ModuleList(Standardise(object_inputs) for _ in range(spec.objects))
         self.objects = nn.ModuleList(mlp(SHAPE_PROJECTION + object_inputs) for _ in range(spec.objects))
         self.parent_norm = nn.ModuleList(Standardise(width(k)) for _, k in spec.parents)
@@ -100,13 +99,16 @@ class ParamClassifier(nn.Module):
             self.register_buffer("prior_shift", torch.zeros(spec.outputs))
 
     def object_inputs(self, batch: Batch) -> torch.Tensor:
-        """(B, M, pose + size + anchors): each object's pose and size, and the value's
-        positions in that object's frame."""
+        """(B, M, `object_features`): each object's pose and size, and the value's positions
+        (and, with `axes`, directions) in that object's frame."""
         poses = batch.poses
         parts = [poses, batch.sizes]
         for start, stop in ANCHORS[self.spec.kind]:
             point = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
             parts.append(quat_rotate_inverse(poses[..., 3:], point - poses[..., :3]))
+        for start, stop in AXES.get(self.spec.kind, ()) if self.spec.axes else ():
+            direction = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
+            parts.append(quat_rotate_inverse(poses[..., 3:], direction))
         return torch.cat(parts, dim=-1)
 
     def fit_statistics(self, batch: Batch) -> None:

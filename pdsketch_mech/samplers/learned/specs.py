@@ -21,6 +21,18 @@ SIZE = 3               # half-extents
 ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
     "grasp": (), "placement": ((0, 3),), "contact": ((0, 3), (7, 10)), "trajectory": ((7, 10),), "push": (),
 }
+# Columns that are world directions (a contact's normal and push direction), turned into each
+# object's frame as extra features by classifiers whose spec says `axes`: where a push goes
+# relative to the tunnel around the block, not relative to the room. Checkpoints older than
+# this have no `axes` and read only the anchors.
+AXES: Dict[str, Tuple[Tuple[int, int], ...]] = {"contact": ((10, 13), (13, 16))}
+
+
+def object_features(spec: "ParamSpec") -> int:
+    """Per context object: pose, size, the value's anchors and (with `axes`) its directions,
+    in that object's frame."""
+    turned = len(AXES.get(spec.kind, ())) if spec.axes else 0
+    return POSE + SIZE + 3 * (len(ANCHORS[spec.kind]) + turned)
 
 
 def width(kind: str) -> int:
@@ -37,15 +49,16 @@ class ParamSpec:
     parents: Tuple[Tuple[str, str], ...]
     objects: int
     outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
+    axes: bool = False  # the value's directions in each object's frame too (AXES)
 
     def to_json(self) -> dict:
         return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
-                "objects": self.objects, "outputs": self.outputs}
+                "objects": self.objects, "outputs": self.outputs, "axes": self.axes}
 
     @classmethod
     def from_json(cls, data: dict) -> "ParamSpec":
         return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]),
-                   int(data.get("outputs", 1)))
+                   int(data.get("outputs", 1)), bool(data.get("axes", False)))
 
 
 @dataclass(frozen=True)
