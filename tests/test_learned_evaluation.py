@@ -73,3 +73,16 @@ def test_selfplay_on_the_test_split_then_evaluate_and_train_refuses_that_folder(
                           str(tmp_path / "c.samplers.safetensors")])
     err = capsys.readouterr().err.strip().splitlines()
     assert refused == 2 and err[-1].startswith("error: ") and "split 'test' (this run: 'train')" in err[-1]
+
+
+def test_evaluate_refuses_data_recorded_with_another_context_count(tmp_path, capsys):
+    """The committed Center-of-Mass checkpoint sees the mechanism's objects only; episodes
+    that also recorded the nearest body have one object more than its classifiers read."""
+    data = str(tmp_path / "wider")
+    assert learn.main(["selfplay", "com", "--split", "test", "--episodes", "1", "--budget", "40", "--context", "1",
+                       "--out", data]) == 0
+    capsys.readouterr()
+    assert learn.main(["evaluate", "com", "--data", data]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"error: {data}: self-play recorded 1 context object(s)")
+    assert err[0].endswith("play the data with --context 0")
