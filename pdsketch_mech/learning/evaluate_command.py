@@ -13,7 +13,7 @@ from ..cli import EXIT_OK, EXIT_UNSOLVED, fail, output_error, write_json
 
 
 def evaluate_command(args) -> int:
-    from ..samplers.learned.checkpoint import CheckpointError, load
+    from ..samplers.learned.checkpoint import CheckpointError, context_count, load
     from ..samplers.learned.ranked import checkpoint_path
     from .evaluate import as_json, data_config, held_out_episodes, markdown, score_episodes, summarise
     from .sampler_data import read_episodes
@@ -46,7 +46,7 @@ def evaluate_command(args) -> int:
     except (CheckpointError, StoreError) as exc:
         return fail(str(exc))
     # Classifiers trained with context objects (samplers/learned/context.py) read as many.
-    theirs, ours = int(meta.get("selfplay", {}).get("context", 0)), int(config.get("context", 0))
+    theirs, ours = context_count(meta), int(config["context"])
     if theirs != ours:
         return fail(f"{data}: self-play recorded {ours} context object(s) per episode, but {shown(checkpoint)} "
                     f"was trained with {theirs}; play the data with --context {theirs}")

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from typing import Dict, Hashable, Iterable, Optional, Sequence, Tuple
+from typing import Dict, Hashable, Iterable, List, Optional, Sequence, Tuple
 
 FLOOR = 1.0 / 32.0   # the least share a skeleton keeps, relative to the most promising one
 
@@ -40,22 +40,21 @@ class GroundingPromise:
 
     def __init__(self, floor: float = FLOOR):
         self.floor = floor
-        self._sums: Dict[Tuple[Grounding, str], float] = defaultdict(float)
-        self._counts: Dict[Tuple[Grounding, str], int] = defaultdict(int)
+        # grounding -> variable -> [sum of the batches' best scores, batches]
+        self._stats: Dict[Grounding, Dict[str, List[float]]] = defaultdict(dict)
         self._rivals: Dict[Tuple[str, Promised], set] = defaultdict(set)  # groundings by what they promise
 
     def observe(self, mechanism: str, args: Sequence[str], variable: str, best_log_score: float) -> None:
         """A batch of proposals for `variable` of `mechanism` grounded on `args` was scored,
         its best at `best_log_score`."""
         if math.isfinite(best_log_score):
-            key = ((mechanism, tuple(args)), variable)
-            self._sums[key] += best_log_score
-            self._counts[key] += 1
+            total = self._stats[(mechanism, tuple(args))].setdefault(variable, [0.0, 0])
+            total[0] += best_log_score
+            total[1] += 1
 
     def mean(self, grounding: Grounding, variable: str) -> Optional[float]:
         """The mean best score of the grounding's batches for `variable` (None: none yet)."""
-        n = self._counts.get((grounding, variable), 0)
-        return self._sums[(grounding, variable)] / n if n else None
+        return self._means(grounding).get(variable)
 
     def gap(self, grounding: Grounding, promised: Promised) -> float:
         """How far (in log probability, <= 0) the grounding's scores fall behind its best
@@ -74,8 +73,7 @@ class GroundingPromise:
         return gap
 
     def _means(self, grounding: Grounding) -> Dict[str, float]:
-        return {variable: self._sums[(seen, variable)] / n
-                for (seen, variable), n in self._counts.items() if seen == grounding and n}
+        return {variable: total / n for variable, (total, n) in self._stats.get(grounding, {}).items()}
 
     def weight(self, groundings: Iterable[Tuple[Grounding, Promised]]) -> float:
         """A skeleton's share of work relative to one whose groundings are the best ones:

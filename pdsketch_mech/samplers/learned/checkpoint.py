@@ -120,3 +120,9 @@ def load_numpy(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Numpy
         raise CheckpointError(f"{weights}: cannot load the checkpoint: its tensors do not fit the classifiers "
                               f"its metadata describes ({type(exc).__name__}: {exc})") from None
     return classifiers, meta
+
+
+def context_count(meta: Dict[str, Any]) -> int:
+    """How many context objects (context.py) the checkpoint's self-play recorded per episode
+    beside the mechanism's own: its classifiers read as many (0 for checkpoints before them)."""
+    return int(meta.get("selfplay", {}).get("context", 0))

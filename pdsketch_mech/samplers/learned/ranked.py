@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, Iterator, List,
 import numpy as np
 
 from ..interface import Sampler, SampleRequest
-from .checkpoint import load_numpy
+from .checkpoint import context_count, load_numpy
 from .context import context_objects
 from .encoding import encode_as, encode_proposal, pose_array
 from .forward import NumpyClassifiers
@@ -58,7 +58,7 @@ class LearnedMechanism:
         self.score_seconds: List[float] = []   # each batch's forward pass (stats)
         self._shapes: Dict[tuple, np.ndarray] = {}  # (variable, urdf) -> the shape's embedding
         # Bodies nearest the mechanism's objects that self-play recorded with them (context.py).
-        self.context = int(meta.get("selfplay", {}).get("context", 0))
+        self.context = context_count(meta)
         self._context: Dict[Tuple[str, ...], Tuple[str, ...]] = {}   # grounding -> its objects
 
     def __contains__(self, variable: object) -> bool:
