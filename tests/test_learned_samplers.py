@@ -252,6 +252,7 @@ class ByValue:
 def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk",
                         lambda scores, rng, explore: ((int(i), False) for i in np.argsort(-scores, kind="stable")))
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.REFILLS", 0)  # Numbers proposes the same each call
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
     proposals = RankedSampler(Numbers(10), ByValue(), "?t", pool=0)   # a push: rank proposals
     assert list(proposals.draw(None, request, np.random.default_rng(0), budget=10)) == [8, 6, 4, 2, 0]
@@ -259,6 +260,37 @@ def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
     pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3)      # a grasp: rank verified values
     assert list(pooled.draw(None, request, np.random.default_rng(0), budget=10)) == [4, 2, 0, 8, 6]
     assert pooled.examined == 10
+
+
+class TwoPerCall(Numbers):
+    """A stand-in proposer that finds two proposals per call (a contact proposer's few usable
+    points), new ones each call, and none after `calls` calls."""
+
+    def __init__(self, calls):
+        super().__init__(0)
+        self.calls, self.made = calls, 0
+
+    def propose(self, world, request, rng, budget):
+        self.made += 1
+        start = 2 * (self.made - 1)
+        return iter(range(start, start + 2) if self.made <= self.calls else ())
+
+
+def test_a_batch_calls_a_proposer_that_ran_dry_again(monkeypatch):
+    """A proposer that finds two proposals per call is called again until the batch is full,
+    so that the classifier has a batch to choose from; a call that finds none ends it."""
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk",
+                        lambda scores, rng, explore: ((int(i), False) for i in np.argsort(-scores, kind="stable")))
+    from pdsketch_mech.samplers.learned.ranked import BATCH, REFILLS
+    request = SampleRequest("s", (), (), StepContext("grasp", ()))
+    proposer = TwoPerCall(calls=100)
+    ranked = RankedSampler(proposer, ByValue(), "?c", pool=0)
+    first = next(ranked.draw(None, request, np.random.default_rng(0), budget=60))
+    assert proposer.made == BATCH // 2 <= 1 + REFILLS
+    assert first == BATCH - 2                 # the best even number of the full batch 0..15
+    dry = TwoPerCall(calls=3)
+    values = list(RankedSampler(dry, ByValue(), "?c", pool=0).draw(None, request, np.random.default_rng(0), budget=60))
+    assert sorted(values) == [0, 2, 4] and dry.made == 4   # the fourth call found none: no more calls
 
 
 def test_a_ranked_sampler_that_keeps_failing_falls_back_to_the_generic_order():
