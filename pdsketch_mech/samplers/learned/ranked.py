@@ -239,7 +239,6 @@ class RankedSampler(Sampler):
                 else:
                     yield self._yielded(value, trust, explored)
 
-
     def _proposals(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                    count: int) -> Iterator[object]:
         """The generic proposer's proposals, and when it runs dry, those of up to REFILLS
