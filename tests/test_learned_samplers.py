@@ -249,9 +249,13 @@ class ByValue:
         return np.array(proposals, dtype=float)
 
 
+def best_first(scores, rng, explore):
+    """A walk that never explores: the batch strictly best first."""
+    return ((int(i), False) for i in np.argsort(-scores, kind="stable"))
+
+
 def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
-    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk",
-                        lambda scores, rng, explore: ((int(i), False) for i in np.argsort(-scores, kind="stable")))
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.REFILLS", 0)  # Numbers proposes the same each call
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
     proposals = RankedSampler(Numbers(10), ByValue(), "?t", pool=0)   # a push: rank proposals
@@ -279,8 +283,7 @@ class TwoPerCall(Numbers):
 def test_a_batch_calls_a_proposer_that_ran_dry_again(monkeypatch):
     """A proposer that finds two proposals per call is called again until the batch is full,
     so that the classifier has a batch to choose from; a call that finds none ends it."""
-    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk",
-                        lambda scores, rng, explore: ((int(i), False) for i in np.argsort(-scores, kind="stable")))
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
     from pdsketch_mech.samplers.learned.ranked import BATCH, REFILLS
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
     proposer = TwoPerCall(calls=100)

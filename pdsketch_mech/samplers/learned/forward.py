@@ -12,7 +12,7 @@ from typing import Dict, List, Mapping, Sequence
 
 import numpy as np
 
-from .specs import ANCHORS, AXES, POSE, SIZE, EncoderConfig, ParamSpec, width
+from .specs import POSE, SIZE, EncoderConfig, ParamSpec, framed_columns, width
 
 Tensors = Mapping[str, np.ndarray]
 LAYER_NORM_EPS = 1e-5  # torch.nn.LayerNorm's default
@@ -111,10 +111,9 @@ class NumpyClassifier:
         parts: List[np.ndarray] = []
         for m in range(self.spec.objects):
             inputs = [np.broadcast_to(poses[m], (rows, POSE)), np.broadcast_to(sizes[m], (rows, SIZE))]
-            for start, stop in ANCHORS[self.spec.kind]:
-                inputs.append(rotate_inverse(poses[m, 3:], value[:, start:stop] - poses[m, :3]))
-            for start, stop in AXES.get(self.spec.kind, ()) if self.spec.axes else ():
-                inputs.append(rotate_inverse(poses[m, 3:], value[:, start:stop]))
+            for start, stop, is_point in framed_columns(self.spec):
+                columns = value[:, start:stop] - poses[m, :3] if is_point else value[:, start:stop]
+                inputs.append(rotate_inverse(poses[m, 3:], columns))
             features = layers.standardise(f"object_norm.{m}", np.concatenate(inputs, -1))
             parts.append(layers.mlp(f"objects.{m}", np.concatenate([np.broadcast_to(shapes[m], (rows, len(shapes[m]))),
                                                                     features], -1)))

@@ -27,7 +27,7 @@ import torch
 from torch import nn
 
 from .pointnet import PointNetEncoder
-from .specs import ANCHORS, AXES, HIDDEN, SHAPE_PROJECTION, EncoderConfig, ParamSpec, object_features, width
+from .specs import HIDDEN, SHAPE_PROJECTION, EncoderConfig, ParamSpec, framed_columns, object_features, width
 
 
 @dataclass
@@ -103,12 +103,9 @@ class ParamClassifier(nn.Module):
         (and, with `axes`, directions) in that object's frame."""
         poses = batch.poses
         parts = [poses, batch.sizes]
-        for start, stop in ANCHORS[self.spec.kind]:
-            point = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
-            parts.append(quat_rotate_inverse(poses[..., 3:], point - poses[..., :3]))
-        for start, stop in AXES.get(self.spec.kind, ()) if self.spec.axes else ():
-            direction = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
-            parts.append(quat_rotate_inverse(poses[..., 3:], direction))
+        for start, stop, is_point in framed_columns(self.spec):
+            columns = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
+            parts.append(quat_rotate_inverse(poses[..., 3:], columns - poses[..., :3] if is_point else columns))
         return torch.cat(parts, dim=-1)
 
     def fit_statistics(self, batch: Batch) -> None:

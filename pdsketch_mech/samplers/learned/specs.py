@@ -28,11 +28,17 @@ ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
 AXES: Dict[str, Tuple[Tuple[int, int], ...]] = {"contact": ((10, 13), (13, 16))}
 
 
+def framed_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
+    """The value's columns seen in each context object's frame, (start, stop, is_point): the
+    anchors (points: moved by the object's position, then turned) and, with `axes`, the
+    directions (turned only)."""
+    points = tuple((start, stop, True) for start, stop in ANCHORS[spec.kind])
+    return points + (tuple((start, stop, False) for start, stop in AXES.get(spec.kind, ())) if spec.axes else ())
+
+
 def object_features(spec: "ParamSpec") -> int:
-    """Per context object: pose, size, the value's anchors and (with `axes`) its directions,
-    in that object's frame."""
-    turned = len(AXES.get(spec.kind, ())) if spec.axes else 0
-    return POSE + SIZE + 3 * (len(ANCHORS[spec.kind]) + turned)
+    """Per context object: pose, size, and the value's `framed_columns` in that object's frame."""
+    return POSE + SIZE + 3 * len(framed_columns(spec))
 
 
 def width(kind: str) -> int:
