@@ -282,7 +282,8 @@ class TwoPerCall(Numbers):
 
 def test_a_batch_calls_a_proposer_that_ran_dry_again(monkeypatch):
     """A proposer that finds two proposals per call is called again until the batch is full,
-    so that the classifier has a batch to choose from; a call that finds none ends it."""
+    so that the classifier has a batch to choose from; a call that finds none ends it. The
+    visit verifies no more than the first call found."""
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
     from pdsketch_mech.samplers.learned.ranked import BATCH, REFILLS
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
@@ -292,8 +293,11 @@ def test_a_batch_calls_a_proposer_that_ran_dry_again(monkeypatch):
     assert proposer.made == BATCH // 2 <= 1 + REFILLS
     assert first == BATCH - 2                 # the best even number of the full batch 0..15
     dry = TwoPerCall(calls=3)
-    values = list(RankedSampler(dry, ByValue(), "?c", pool=0).draw(None, request, np.random.default_rng(0), budget=60))
-    assert sorted(values) == [0, 2, 4] and dry.made == 4   # the fourth call found none: no more calls
+    capped = RankedSampler(dry, ByValue(), "?c", pool=0)
+    values = list(capped.draw(None, request, np.random.default_rng(0), budget=60))
+    assert dry.made == 4                      # the fourth call found none: no more calls
+    assert values == [4] and capped.examined == 2   # 5 and 4, the best two of 0..5: a visit verifies
+                                                    # as many as the first call found, as generic would
 
 
 def test_a_ranked_sampler_that_keeps_failing_falls_back_to_the_generic_order():

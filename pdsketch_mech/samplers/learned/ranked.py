@@ -8,7 +8,9 @@ through it best first. A share of the walk (EXPLORE) takes one at random
 from the rest instead, and every member of a batch is still used in the end: the ranking
 reorders, it never removes, so the planner stays as complete as with the generic sampler.
 A proposer that runs dry before the batch is full is called again (REFILLS): a batch of the
-two contacts one call finds leaves the classifier nothing to choose.
+two contacts one call finds leaves the classifier nothing to choose. A visit still verifies
+no more proposals than that first call found, as the generic draw would: the refills widen the
+choice, they do not make a visit that cannot succeed cost more.
 
 A batch is small on purpose. The best of many proposals by a classifier's score is the one
 it overrates most (the optimizer's curse), all the more on a shape it never saw: on
@@ -219,7 +221,8 @@ class RankedSampler(Sampler):
         limit = self.budget if budget is None else budget  # proposals verified, as the generic draw
         # A batch is BATCH proposals even when few are verified (a push verifies one distance
         # per visit, out of BATCH proposed and ranked).
-        proposals = self._proposals(world, request, rng, max(limit, BATCH))
+        first: List[int] = []   # how many the proposer's first call found, once it is known
+        proposals = self._proposals(world, request, rng, max(limit, BATCH), first)
         examined = 0
         while examined < limit and time.perf_counter() <= request.deadline:
             batch = list(islice(proposals, BATCH))
@@ -228,7 +231,10 @@ class RankedSampler(Sampler):
             scores = self._scored(world, request, batch)
             trust = self.trust_for(request)
             for index, explored in walk(scores, rng, trust.explore_chance):
-                if examined >= limit or time.perf_counter() > request.deadline:
+                # A visit verifies no more than the generic draw would (what one call
+                # proposes): refills widen the choice, not the work of a visit that cannot
+                # succeed (a grasp of a plate still lying flat).
+                if examined >= min(limit, first[0] if first else limit) or time.perf_counter() > request.deadline:
                     return
                 examined += 1
                 self.examined += 1
@@ -240,9 +246,10 @@ class RankedSampler(Sampler):
                     yield self._yielded(value, trust, explored)
 
     def _proposals(self, world: "World", request: SampleRequest, rng: np.random.Generator,
-                   count: int) -> Iterator[object]:
+                   count: int, first: List[int]) -> Iterator[object]:
         """The generic proposer's proposals, and when it runs dry, those of up to REFILLS
-        more calls; a call that finds none ends them. A proposer examines a bounded number
+        more calls; a call that finds none ends them. How many the first call found is
+        appended to `first` when that call ends. A proposer examines a bounded number
         of candidates per call: the contact proposer's 60 points on the target give a held
         tool a median of 2 usable contacts, and a batch of 2 leaves the classifier nothing
         to choose (on a Hook test instance 1 in 5 of them pulls the box toward the robot,
@@ -253,6 +260,8 @@ class RankedSampler(Sampler):
             for proposal in self.generic.propose(world, request, rng, count):
                 found += 1
                 yield proposal
+            if not first:
+                first.append(found)
             if not found or time.perf_counter() > request.deadline:
                 return
 
