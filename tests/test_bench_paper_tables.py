@@ -42,6 +42,16 @@ def test_store_refuses_to_overwrite_or_mix_settings(tmp_path):
     assert len(open(os.path.join(folder, "trials.jsonl")).readlines()) == 1  # nothing lost
 
 
+def test_a_trial_records_its_checkout_and_a_table_says_which_commits_ran_it():
+    from pdsketch_mech.bench.paper_commands import commits_line
+    from pdsketch_mech.bench.trials import checkout_commit
+    assert checkout_commit() == "" or checkout_commit()[:7].isalnum()   # this checkout, or not a git one
+    same = [Trial("edge", "macro", i, "x", i, "solved", 1.0, commit="abc1234") for i in range(2)]
+    assert commits_line(same) == "run at commit abc1234"
+    resumed = same + [Trial("hook", "macro", 0, "x", 0, "solved", 1.0, commit="def5678-dirty")]
+    assert commits_line(resumed) == "run at commit abc1234 (2 trials), def5678-dirty (1 trial)"
+
+
 def test_every_method_plans_the_same_instances():
     jobs = mechanisms.instance_jobs("com", ["basis", "macro", "macro+sampler"], 2, 5, 60.0, "com.pddl")
     by_method = {}

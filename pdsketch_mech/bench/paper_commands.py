@@ -11,6 +11,7 @@ import glob
 import importlib.util
 import os
 import sys
+from collections import Counter
 from dataclasses import asdict
 from typing import List, Sequence
 
@@ -88,11 +89,18 @@ def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
 
 
 def _write(args: argparse.Namespace, trials: Sequence[Trial], header, rows, lines, extra: dict) -> None:
+    lines = lines + [commits_line(trials)]
     print(render_text(header, rows, lines), end="")
     write_text(os.path.join(args.out, "table.md"), render_markdown(header, rows, lines))
     write_json(os.path.join(args.out, "results.json"),
                {**extra, "trials": [asdict(t) for t in trials], "table": {"header": header, "rows": rows},
                 "lines": lines, "command": " ".join(["python -m pdsketch_mech.bench"] + sys.argv[1:])})
+
+
+def commits_line(trials: Sequence[Trial]) -> str:
+    """Which checkouts planned the trials (a run resumed across commits says so)."""
+    counts = Counter(t.commit or "unknown" for t in trials)
+    return "run at commit " + ", ".join(f"{c} ({n} trial{'s' if n > 1 else ''})" if len(counts) > 1 else c for c, n in sorted(counts.items()))
 
 
 def run_mechanisms_command(args: argparse.Namespace) -> int:

@@ -7,8 +7,10 @@ temporary folder (the domain files are read from the same checkout path on every
 """
 from __future__ import annotations
 
+import functools
 import json
 import os
+import subprocess
 import tempfile
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple
@@ -67,6 +69,7 @@ class Trial:
     simulated: Dict[str, int] = field(default_factory=dict)             # sampler -> values simulated
     reason: str = ""
     score_ms: Optional[float] = None  # median time to score a batch with learned samplers
+    commit: str = ""                  # the checkout that planned it (a resumed run may span several)
 
     @property
     def key(self) -> Tuple[str, str, int]:
@@ -76,6 +79,19 @@ class Trial:
     def samples(self) -> int:
         """Values simulated over all samplers (the paper's "samples evaluated")."""
         return sum(self.simulated.values())
+
+
+@functools.lru_cache(maxsize=None)
+def checkout_commit() -> str:
+    """The git commit of the checkout this package runs from, "-dirty" if it has local
+    changes; "" outside a git checkout (an installed copy)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    try:
+        done = subprocess.run(["git", "-C", here, "describe", "--always", "--dirty", "--abbrev=7"],
+                              capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return ""
+    return done.stdout.strip() if done.returncode == 0 else ""
 
 
 def run_job(job: Job, folder: Optional[str] = None) -> Trial:
@@ -95,7 +111,7 @@ def run_job(job: Job, folder: Optional[str] = None) -> Trial:
                   run.skeletons, run.refined, run.steps,
                   {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
                   {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason,
-                  (stats.get("score_ms") or {}).get("median"))
+                  (stats.get("score_ms") or {}).get("median"), checkout_commit())
     if trial.status == "solved":
         ok, message = replay_once(job.domain, problem, out, mechanisms=job.mechanisms)
         if not ok:
