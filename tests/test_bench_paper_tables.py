@@ -122,6 +122,23 @@ def test_results_of_another_run_are_not_overwritten(tmp_path, capsys):
     one_error_line(capsys, ["mechanisms", "--tasks", "com", "--out", str(out)], "--resume")
 
 
+def test_table_only_shows_what_a_run_holds_and_plans_nothing(tmp_path, capsys, monkeypatch):
+    out = tmp_path / "run"
+    one_error_line(capsys, ["mechanisms", "--out", str(out), "--table-only"], "holds no trials")
+    config = {"kind": "mechanisms", "seed": 0, "timeout_s": 600.0, "mechanisms_dir": "domains/mechanisms"}
+    TrialStore(str(out), config, resume=False).add(trial("com", "macro", 0, time_s=2.0))
+
+    def no_planning(*args, **kwargs):
+        raise AssertionError("--table-only ran a trial")
+    monkeypatch.setattr("pdsketch_mech.bench.trials.run_job", no_planning)
+    assert main(["mechanisms", "--tasks", "edge,com", "--methods", "basis,macro", "--trials", "2", "--out", str(out),
+                 "--table-only", "--quiet"]) == 0
+    table = (out / "table.md").read_text()
+    macro = next(line for line in table.splitlines() if line.startswith("| Macro (ours)"))
+    assert macro.split(" | ")[1:] == ["-", "2.00 ± 0.00 (med 2.00, 1/1) |"]   # edge not run; com one of two
+    assert "1 of 8 trials" in capsys.readouterr().err
+
+
 @pytest.mark.slow
 def test_table1_end_to_end_plans_replays_and_resumes(tmp_path, capsys):
     out = str(tmp_path / "t1")

@@ -50,6 +50,9 @@ def _add_common(parser: argparse.ArgumentParser, tasks: Sequence[str], default_o
                         help=f"the mechanism fragments (default {MECHANISMS_DIR})")
     parser.add_argument("--out", default=default_out, metavar="DIR", help=f"results folder (default {default_out})")
     parser.add_argument("--resume", action="store_true", help="continue the run whose results --out holds")
+    parser.add_argument("--table-only", action="store_true",
+                        help="write the table from the trials --out holds, running none (a run in progress or "
+                             "unfinished: a cell without trials is '-', a partial one says n/k)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -72,11 +75,17 @@ def _check(args: argparse.Namespace, fragments: Sequence[str]) -> None:
 
 def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
     config = {"kind": kind, "seed": args.seed, "timeout_s": args.timeout, "mechanisms_dir": args.mechanisms_dir}
+    if args.table_only and not os.path.exists(os.path.join(args.out, "trials.jsonl")):
+        raise BenchError(f"--table-only: {args.out} holds no trials")
     try:
-        store = TrialStore(args.out, config, args.resume)
+        store = TrialStore(args.out, config, args.resume or args.table_only)
     except TrialsError as error:
         raise BenchError(str(error)) from None
     todo = store.pending(jobs)
+    if args.table_only:
+        print(f"{kind}: {len(jobs) - len(todo)} of {len(jobs)} trials in {args.out}; none run (--table-only)",
+              file=sys.stderr)
+        return [store.trials[job.key] for job in jobs if job.key in store.trials]
     print(f"{kind}: {len(jobs)} trials, {len(jobs) - len(todo)} done before, {len(todo)} to run "
           f"({args.workers} at a time, {args.timeout:g} s each at most); results in {args.out}", file=sys.stderr)
     from tqdm import tqdm
