@@ -223,19 +223,23 @@ class RankedSampler(Sampler):
         # A batch is BATCH proposals even when few are verified (a push verifies one distance
         # per visit, out of BATCH proposed and ranked).
         first: List[int] = []   # how many the proposer's first call found, once it is known
+
+        def done() -> bool:
+            # A visit verifies no more than the generic draw would (what one call proposes):
+            # refills widen the choice, not the work of a visit that cannot succeed (a grasp
+            # of a plate still lying flat).
+            return examined >= min(limit, first[0] if first else limit) or time.perf_counter() > request.deadline
+
         proposals = self._proposals(world, request, rng, max(limit, BATCH), first)
         examined = 0
-        while examined < limit and time.perf_counter() <= request.deadline:
+        while not done():
             batch = list(islice(proposals, BATCH))
             if not batch:
                 return
             scores = self._scored(world, request, batch)
             trust = self.trust_for(request)
             for index, explored in walk(scores, rng, trust.explore_chance):
-                # A visit verifies no more than the generic draw would (what one call
-                # proposes): refills widen the choice, not the work of a visit that cannot
-                # succeed (a grasp of a plate still lying flat).
-                if examined >= min(limit, first[0] if first else limit) or time.perf_counter() > request.deadline:
+                if done():
                     return
                 examined += 1
                 self.examined += 1
