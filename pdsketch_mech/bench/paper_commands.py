@@ -109,7 +109,9 @@ def _write(args: argparse.Namespace, trials: Sequence[Trial], header, rows, line
 def commits_line(trials: Sequence[Trial]) -> str:
     """Which checkouts planned the trials (a run resumed across commits says so)."""
     counts = Counter(t.commit or "unknown" for t in trials)
-    return "run at commit " + ", ".join(f"{c} ({n} trial{'s' if n > 1 else ''})" if len(counts) > 1 else c for c, n in sorted(counts.items()))
+    if len(counts) == 1:
+        return f"run at commit {next(iter(counts))}"
+    return "run at commit " + ", ".join(f"{c} ({n} trial{'s' if n > 1 else ''})" for c, n in sorted(counts.items()))
 
 
 def run_mechanisms_command(args: argparse.Namespace) -> int:
