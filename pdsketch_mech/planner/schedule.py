@@ -6,23 +6,29 @@ and cheaper first) has a priority score
 
     (effort_k + ENTRY) * k ** EXPONENT
 
-where effort_k is the work it has had; the lowest score works next, for one SLICE. The
-next skeleton not yet created competes too, with effort 0: it is created when its score,
-ENTRY * k ** EXPONENT, is the lowest. So skeleton k gets about k ** EXPONENT times less
-work than the first, and reaching the N-th skeleton costs about ENTRY * N * ln N units in
-all (EXPONENT = 1): the Hook task's basis-only tool-use skeleton (the 26th) is refined
-after ~400 units, while the first skeletons keep the larger share. Measured on the Hook
-task: EXPONENT = 1/2 reaches deep skeletons sooner but starves the hook-use mechanism's
-skeleton (167 s instead of 65 s, seed 0); 3/2 starves the deep ones (basis-only unsolved
-in 90 s; 61 s with 1). ENTRY sets how fast new skeletons come: skeleton 1's share of the
-work is about 1 / ln N whatever ENTRY is, so a smaller ENTRY reaches deep skeletons sooner
-at a small cost to the first ones. Measured (one process per core): the 5-step two-poke
-skeleton (#107 on a long-tunnel poking problem) is created at 181 s with ENTRY 4, 121 s
-with 2, 105 s with 1.5; the Hook task's basis-only tool-use skeleton (#26) at 24-30 s
-with 4, 16-21 s with 2; the hook-use mechanism solves Hook in a median 17 / 20 / 19 s
-(5 seeds). Work is counted in units (samples drawn
-and simulated, samplers running dry), never in seconds: the same seed gives the same plan
-whatever the machine's load.
+where effort_k is the work it has had; the lowest score works next, for one SLICE. The next
+skeleton not yet created competes too, with effort 0: it is created when its score, ENTRY *
+k ** EXPONENT, is the lowest. So skeleton k gets about k ** EXPONENT times less work than
+the first, and reaching the N-th skeleton costs about ENTRY * N * ln N units in all
+(EXPONENT = 1): the Hook task's basis-only tool-use skeleton (the 26th) is refined after
+some hundreds of units (below), while the first skeletons keep the larger share. Measured
+on the Hook task: EXPONENT = 1/2 reaches deep skeletons sooner but starves the hook-use
+mechanism's skeleton (167 s instead of 65 s, seed 0); 3/2 starves the deep ones (basis-only
+unsolved in 90 s; 61 s with 1). ENTRY sets how fast new skeletons come: skeleton 1's share
+of the work is about 1 / ln N whatever ENTRY is, but every new skeleton costs a first SLICE
+of work when it comes, so the smaller ENTRY is against SLICE, the more of the work goes
+into first slices. ENTRY = SLICE: a new skeleton is worth what its first turn costs.
+Measured against ENTRY 1.5 on Table 1's Hook, Lever and Poking test instances with learned
+samplers (bench mechanisms, 10 trials each, same seeds; values simulated, which the
+machine's load does not change): Hook's median 215 -> 96 values (skeletons created
+40/25/171/62/103 -> 15/12/84/32/8 on the first five), Poking 64 -> 28, Lever 20 -> 20 (but
+lever-test-4, which needs a skeleton created after 250 others, went from solved in 353 s to
+unsolved). The price: a skeleton far down the order comes later (the 107th after ~2000
+units instead of ~950, the Hook task's basis-only tool-use skeleton, the 26th, after ~350
+instead of ~180; tests). Earlier measurements with ENTRY 4 / 2 / 1.5 and a first slice of
+4: the 5-step two-poke skeleton (#107 on a long-tunnel poking problem) created at 181 / 121
+/ 105 s. Work is counted in units (samples drawn and simulated, samplers running dry),
+never in seconds: the same seed gives the same plan whatever the machine's load.
 
 A skeleton's score is divided by its weight in (0, 1]: with learned samplers, how its
 mechanism groundings compare with the best ones in the classifiers' eyes (promise.py); 1
@@ -32,7 +38,7 @@ from __future__ import annotations
 
 from typing import Iterable, Optional, Tuple
 
-ENTRY = 1.5         # work units a new skeleton is worth before it starts
+ENTRY = 4.0         # work units a new skeleton is worth before it starts: its first SLICE
 EXPONENT = 1.0
 SLICE = 4           # work units per turn
 
