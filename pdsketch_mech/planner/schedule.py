@@ -22,13 +22,15 @@ Measured against ENTRY 1.5 on Table 1's Hook, Lever and Poking test instances wi
 samplers (bench mechanisms, 10 trials each, same seeds; values simulated, which the
 machine's load does not change): Hook's median 215 -> 96 values (skeletons created
 40/25/171/62/103 -> 15/12/84/32/8 on the first five), Poking 64 -> 28, Lever 20 -> 20 (but
-lever-test-4, which needs a skeleton created after 250 others, went from solved in 353 s to
-unsolved). The price: a skeleton far down the order comes later (the 107th after ~2000
-units instead of ~950, the Hook task's basis-only tool-use skeleton, the 26th, after ~350
-instead of ~180; tests). Earlier measurements with ENTRY 4 / 2 / 1.5 and a first slice of
-4: the 5-step two-poke skeleton (#107 on a long-tunnel poking problem) created at 181 / 121
-/ 105 s. Work is counted in units (samples drawn and simulated, samplers running dry),
-never in seconds: the same seed gives the same plan whatever the machine's load.
+lever-test-4 went from solved in 353 s to unsolved, in 1500 s too: its lever grounding got
+823 units and never tipped the plate far enough to grasp it, and the old schedule had
+reached the skeleton that solved it, after some 250 others, in time). The price: a skeleton
+far down the order comes later (the 107th after ~2000 units instead of ~950, the Hook
+task's basis-only tool-use skeleton, the 26th, after ~350 instead of ~180; tests). Earlier
+measurements with ENTRY 4 / 2 / 1.5 and a first slice of 4: the 5-step two-poke skeleton
+(#107 on a long-tunnel poking problem) created at 181 / 121 / 105 s. Work is counted in
+units (samples drawn and simulated, samplers running dry), never in seconds: the same seed
+gives the same plan whatever the machine's load.
 
 A skeleton's score is divided by its weight in (0, 1]: with learned samplers, how its
 mechanism groundings compare with the best ones in the classifiers' eyes (promise.py); 1
