@@ -20,7 +20,7 @@ from . import compose, mechanisms
 from .ipc import BenchError
 from .plans import check_domain
 from .tables import render_markdown, render_text
-from .trials import METHODS, Job, Trial, TrialsError, TrialStore, run_all
+from .trials import METHODS, Job, Trial, TrialsError, TRIALS_FILE, TrialStore, run_all
 
 MECHANISMS_DIR = os.path.join("domains", "mechanisms")
 BASIS = os.path.join("domains", "basis.pddl")
@@ -75,7 +75,7 @@ def _check(args: argparse.Namespace, fragments: Sequence[str]) -> None:
 
 def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
     config = {"kind": kind, "seed": args.seed, "timeout_s": args.timeout, "mechanisms_dir": args.mechanisms_dir}
-    if args.table_only and not os.path.exists(os.path.join(args.out, "trials.jsonl")):
+    if args.table_only and not os.path.exists(os.path.join(args.out, TRIALS_FILE)):
         raise BenchError(f"--table-only: {args.out} holds no trials")
     try:
         store = TrialStore(args.out, config, args.resume or args.table_only)

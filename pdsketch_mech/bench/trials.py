@@ -137,13 +137,16 @@ def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> It
                 future.cancel()
 
 
+TRIALS_FILE = "trials.jsonl"   # in OUT: one line per finished trial
+
+
 class TrialStore:
     """OUT/config.json (what the trials were run with) and OUT/trials.jsonl (one line per
     finished trial, flushed and synced as it lands: an interrupt loses only trials in flight)."""
 
     def __init__(self, folder: str, config: Dict[str, object], resume: bool):
         self.folder = folder
-        self.path = os.path.join(folder, "trials.jsonl")
+        self.path = os.path.join(folder, TRIALS_FILE)
         config_path = os.path.join(folder, "config.json")
         if os.path.exists(self.path) or os.path.exists(config_path):
             if not resume:
