@@ -24,6 +24,7 @@ from ..symbolic.skeletons import iter_skeletons
 from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
+from .detours import detour_weight, unexplained_detours
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures, StepKey, fixed_objects, pristine_keys
@@ -123,12 +124,15 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     failures: Counter = Counter()
     more = True
 
+    def can_search() -> bool:
+        return more and stats["skeletons"] < max_skeletons and time.perf_counter() < deadline
+
     def next_plan():
         """The next skeleton that repeats no dead pristine step, with its steps and their
         keys; a deferred one once the symbolic search has no more (or the cap is reached);
         None when none is left."""
         nonlocal more
-        while more and stats["skeletons"] < max_skeletons and time.perf_counter() < deadline:
+        while can_search():
             plan = next(skeletons, None)
             if plan is None:
                 more = False
@@ -141,24 +145,49 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
             stats["deferred"] += 1
         return deferred.pop(0) if deferred else None
 
+    upcoming = None   # the next skeleton, looked at before it is created: its weight counts
+
+    def peek():
+        nonlocal upcoming
+        t0 = time.perf_counter()
+        if upcoming is None:
+            upcoming = next_plan()
+        while upcoming is not None and can_search() and memo.blocks(upcoming[2]):  # died since
+            deferred.append(upcoming)
+            stats["deferred"] += 1
+            upcoming = next_plan()
+        stats["symbolic_s"] += time.perf_counter() - t0
+        return upcoming
+
+    detour_counts: Dict[Tuple[int, ...], Tuple[int, int]] = {}  # plan -> (flagged objects, detours)
+
+    def detours(plan: List[int]) -> int:
+        key = tuple(plan)
+        known = detour_counts.get(key)
+        if known is None or known[0] != memo.flagged:
+            known = detour_counts[key] = (memo.flagged, unexplained_detours(task, plan, memo.masks, memo.flagged))
+        return known[1]
+
+    def weight(refinement: Refinement) -> float:
+        return (sampler.promise.weight(refinement.groundings())
+                * detour_weight(detours(plans[refinement.rank])))
+
     try:
         while time.perf_counter() < deadline:
-            can_create = (more and stats["skeletons"] < max_skeletons) or bool(deferred)
-            turn = next_turn(((r.rank, r.effort, sampler.promise.weight(r.groundings())) for r in active.values()),
-                             stats["skeletons"] + 1 if can_create else None)
+            taken = peek() if can_search() or deferred or upcoming is not None else None
+            turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
+                             stats["skeletons"] + 1 if taken is not None else None,
+                             detour_weight(detours(taken[0])) if taken is not None else 1.0)
             if turn is None:
                 break
             if turn not in active:
-                t0 = time.perf_counter()
-                taken = next_plan()
-                stats["symbolic_s"] += time.perf_counter() - t0
-                if taken is None:
-                    more = False
-                    continue
+                upcoming = None
                 plan, steps, keys = taken
                 stats["skeletons"] += 1
                 label = " ".join(task.operators[o].label for o in plan)
                 created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
+                if detours(plan):
+                    created[-1]["detours"] = detours(plan)
                 # Each skeleton draws from its own generator, seeded by the plan's seed and its
                 # labels: what one skeleton draws does not depend on which others came first
                 # (or were deferred), so a change in the skeleton order does not reshuffle luck.

@@ -69,6 +69,7 @@ class PristineFailures:
     def __init__(self, dead_after: int = DEAD_AFTER, start: Optional[float] = None):
         self.dead_after = dead_after
         self.bits: Dict[str, int] = {}    # object -> its bit in the symbolic search's masks
+        self.masks: List[int] = []        # per operator: the bits of the objects it handles
         self.flagged = 0                  # bits of the objects some dead step is about
         self._steps: List[Tuple[Tuple[StepKey, int], ...]] = []  # per operator: (key, mask) per step
         self.start = time.perf_counter() if start is None else start
@@ -100,6 +101,7 @@ class PristineFailures:
     def attach(self, task: StripsTask) -> List[int]:
         """Prepare to answer `blocks_operator` for `task`'s operators; returns touch_masks."""
         masks, self.bits = touch_masks(task)
+        self.masks = masks
         keys = [(op.name, _objects(op.args)) for op in task.operators]
         self._steps = [tuple((keys[b], masks[b]) for b in (op.steps or (i,)))
                        for i, op in enumerate(task.operators)]

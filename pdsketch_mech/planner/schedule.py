@@ -32,9 +32,11 @@ measurements with ENTRY 4 / 2 / 1.5 and a first slice of 4: the 5-step two-poke 
 units (samples drawn and simulated, samplers running dry), never in seconds: the same seed
 gives the same plan whatever the machine's load.
 
-A skeleton's score is divided by its weight in (0, 1]: with learned samplers, how its
-mechanism groundings compare with the best ones in the classifiers' eyes (promise.py); 1
-without them. A skeleton of weight w gets about w times the share of work of its rank.
+A skeleton's score is divided by its weight in (0, 1]: DETOUR_WEIGHT per detour no dead
+step explains (detours.py), times, with learned samplers, how its mechanism groundings
+compare with the best ones in the classifiers' eyes (promise.py). A skeleton of weight w gets
+about w times the share of work of its rank; the next skeleton is looked at before it is
+created, so its weight delays its creation too.
 """
 from __future__ import annotations
 
@@ -49,15 +51,15 @@ def score(rank: int, effort: int, weight: float = 1.0) -> float:
     return (effort + ENTRY) * rank ** EXPONENT / weight
 
 
-def next_turn(active: Iterable[Tuple[int, ...]], next_rank: Optional[int]) -> Optional[int]:
+def next_turn(active: Iterable[Tuple[int, ...]], next_rank: Optional[int], next_weight: float = 1.0) -> Optional[int]:
     """The rank of the skeleton to work on next among `active` (rank, effort[, weight])
-    tuples, or `next_rank` if a new skeleton should be created first (None: no more
-    skeletons; a new one has weight 1). Returns None when there is nothing left at all."""
+    tuples, or `next_rank` if a new skeleton (of weight `next_weight`) should be created
+    first (None: no more skeletons). Returns None when there is nothing left at all."""
     best: Optional[Tuple[float, int]] = None
     for rank, effort, *weight in active:
         candidate = (score(rank, effort, *weight), rank)
         if best is None or candidate < best:
             best = candidate
-    if next_rank is not None and (best is None or score(next_rank, 0) <= best[0]):
+    if next_rank is not None and (best is None or score(next_rank, 0, next_weight) <= best[0]):
         return next_rank
     return None if best is None else best[1]
