@@ -108,7 +108,8 @@ def _summary(result: ClassicalResult) -> str:
 
 
 def _print_skeletons(loaded: LoadedDomain, problem: Problem, wanted: int, deadline: float) -> int:
-    from .planner.bilevel import prepare_task, skeleton_order  # as the bilevel planner searches
+    from .planner.bilevel import prepare_task
+    from .planner.supply import skeleton_order  # as the bilevel planner searches
 
     task, _ = prepare_task(loaded, problem)
     found: List[str] = []

@@ -8,7 +8,8 @@ import pytest
 from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
-from pdsketch_mech.planner.bilevel import bilevel_plan, prepare_task, skeleton_order
+from pdsketch_mech.planner.bilevel import bilevel_plan, prepare_task
+from pdsketch_mech.planner.supply import skeleton_order
 from pdsketch_mech.planner.pristine import DEAD_AFTER, PristineFailures, fixed_objects, pristine_keys
 from pdsketch_mech.planner.refine import Step
 from pdsketch_mech.symbolic.skeletons import iter_skeletons

@@ -87,7 +87,8 @@ def enumeration_rank(patterns: Sequence[str], domain: str, problem: str, basis_o
     `limit` skeletons (or `seconds`) symbolically, as the planner does (prepare_task +
     skeleton_order). Returns ({pattern: rank or None}, skeletons enumerated)."""
     from ..lang.loader import load_domain, load_problem
-    from ..planner.bilevel import prepare_task, skeleton_order
+    from ..planner.bilevel import prepare_task
+    from ..planner.supply import skeleton_order
 
     loaded, parsed = load_problem(problem, [load_domain([domain])])
     task, _ = prepare_task(loaded, parsed, use_mechanisms=not basis_only)

@@ -2,9 +2,11 @@
 optimistic stream placeholders), refined by sampling and simulation.
 
 Adaptive, in PDDLStream's sense: work is shared between refining the skeletons found so far
-and taking new ones from the symbolic search (schedule.py), so a skeleton that needs many
-samples is not starved by the search for new ones, and a deep one (a tool use 20 skeletons
-down) is reached within a bounded amount of work.
+and taking new ones from the symbolic search (schedule.py; supply.py hands them out), so a
+skeleton that needs many samples is not starved by the search for new ones, and a deep one
+(a tool use 20 skeletons down) is reached within a bounded amount of work. Skeletons that
+wander (detours.py) and mechanism groundings the learned samplers doubt (promise.py) get
+less of it.
 """
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import time
 import zlib
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional, Tuple
+from typing import TYPE_CHECKING, Dict, List, Mapping, Optional
 
 import numpy as np
 
@@ -20,17 +22,16 @@ from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
 from ..symbolic.grounding import ground
 from ..symbolic.optimistic import optimistic_problem
-from ..symbolic.skeletons import iter_skeletons
 from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
-from .detours import detour_weight, unexplained_detours
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
-from .pristine import PristineFailures, StepKey, fixed_objects, pristine_keys
-from .refine import Refinement, Step, skeleton_steps
+from .pristine import PristineFailures
+from .refine import Refinement, Step
 from .schedule import SLICE, next_turn
 from .serialize import plan_entries
+from .supply import SkeletonSupply
 
 if TYPE_CHECKING:
     from ..samplers.learned.ranked import LearnedMechanism
@@ -63,20 +64,6 @@ def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = 
     if use_mechanisms and domain.domain.mechanisms:
         add_mechanism_macros(task, domain.domain, domain.types, optimistic)
     return task, placeholders
-
-
-def skeleton_order(task: StripsTask, deadline: Optional[float] = None,
-                   memo: Optional[PristineFailures] = None) -> Iterator[List[int]]:
-    """Skeletons in the order the planner takes them from the symbolic search. With `memo`,
-    as refinement finds pristine steps dead (pristine.py): paths that would repeat one wait
-    until the others run out, and paths are told apart by which of the objects of dead
-    steps they have handled (a box out of reach hooked closer and put back is not the box
-    where it lay)."""
-    if memo is None:
-        return iter_skeletons(task, deadline=deadline)
-    masks = memo.attach(task)
-    return iter_skeletons(task, deadline=deadline, handles=masks, relevant=lambda: memo.flagged,
-                          blocked=memo.blocks_operator)
 
 
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
@@ -112,82 +99,31 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     def in_fresh_world(steps: List[Step], values: List[Dict[str, object]]) -> Optional[str]:
         result = execute_plan(task, problem, plan_entries(steps, values))
         return None if result.goal_reached else f"in a fresh world, {result.message}"
-    memo, fixed = PristineFailures(start=start), fixed_objects(task)
-    skeletons = skeleton_order(task, deadline, memo)
-    # Skeletons that repeat a dead pristine step, in order, with their steps and step keys.
-    deferred: List[Tuple[List[int], List[Step], List[Optional[StepKey]]]] = []
+    memo = PristineFailures(start=start)
+    supply = SkeletonSupply(task, memo, deadline, max_skeletons)
     active: Dict[int, Refinement] = {}
     plans: Dict[int, List[int]] = {}
     created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
     stats["skeleton_log"] = created
-    stats["deferred"] = 0
     failures: Counter = Counter()
-    more = True
-
-    def can_search() -> bool:
-        return more and stats["skeletons"] < max_skeletons and time.perf_counter() < deadline
-
-    def next_plan():
-        """The next skeleton that repeats no dead pristine step, with its steps and their
-        keys; a deferred one once the symbolic search has no more (or the cap is reached);
-        None when none is left."""
-        nonlocal more
-        while can_search():
-            plan = next(skeletons, None)
-            if plan is None:
-                more = False
-                break
-            steps = skeleton_steps(task, plan)
-            keys = pristine_keys(steps, fixed)
-            if not memo.blocks(keys):
-                return plan, steps, keys
-            deferred.append((plan, steps, keys))
-            stats["deferred"] += 1
-        return deferred.pop(0) if deferred else None
-
-    upcoming = None   # the next skeleton, looked at before it is created: its weight counts
-
-    def peek():
-        nonlocal upcoming
-        t0 = time.perf_counter()
-        if upcoming is None:
-            upcoming = next_plan()
-        while upcoming is not None and can_search() and memo.blocks(upcoming[2]):  # died since
-            deferred.append(upcoming)
-            stats["deferred"] += 1
-            upcoming = next_plan()
-        stats["symbolic_s"] += time.perf_counter() - t0
-        return upcoming
-
-    detour_counts: Dict[Tuple[int, ...], Tuple[int, int]] = {}  # plan -> (flagged objects, detours)
-
-    def detours(plan: List[int]) -> int:
-        key = tuple(plan)
-        known = detour_counts.get(key)
-        if known is None or known[0] != memo.flagged:
-            known = detour_counts[key] = (memo.flagged, unexplained_detours(task, plan, memo.masks, memo.flagged))
-        return known[1]
 
     def weight(refinement: Refinement) -> float:
-        return (sampler.promise.weight(refinement.groundings())
-                * detour_weight(detours(plans[refinement.rank])))
+        return sampler.promise.weight(refinement.groundings()) * supply.weight(plans[refinement.rank])
 
     try:
         while time.perf_counter() < deadline:
-            taken = peek() if can_search() or deferred or upcoming is not None else None
+            upcoming = supply.peek()
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
-                             stats["skeletons"] + 1 if taken is not None else None,
-                             detour_weight(detours(taken[0])) if taken is not None else 1.0)
+                             supply.taken + 1 if upcoming is not None else None,
+                             supply.weight(upcoming[0]) if upcoming is not None else 1.0)
             if turn is None:
                 break
             if turn not in active:
-                upcoming = None
-                plan, steps, keys = taken
-                stats["skeletons"] += 1
+                plan, steps, keys = supply.take()
                 label = " ".join(task.operators[o].label for o in plan)
                 created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
-                if detours(plan):
-                    created[-1]["detours"] = detours(plan)
+                if supply.detours(plan):
+                    created[-1]["detours"] = supply.detours(plan)
                 # Each skeleton draws from its own generator, seeded by the plan's seed and its
                 # labels: what one skeleton draws does not depend on which others came first
                 # (or were deferred), so a change in the skeleton order does not reshuffle luck.
@@ -204,8 +140,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 del active[turn]
                 for other in active.values():
                     failures += _retire(other, stats)
-                stats["sim_steps"] = world.sim_steps - sim_start
-                stats["dead_steps"] = memo.labels()
+                _final_counts(stats, supply, memo, world.sim_steps - sim_start)
                 return _result("solved", refinement, values, start, stats, failures + refinement.failures)
             if refinement.exhausted:
                 del active[turn]
@@ -215,14 +150,12 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 for rank in [r for r, other in active.items() if memo.blocks(other.pristine)]:
                     retired = active.pop(rank)
                     failures += _retire(retired, stats)
-                    deferred.append((plans[rank], list(retired.steps), list(retired.pristine)))
-                    stats["deferred"] += 1
+                    supply.defer((plans[rank], list(retired.steps), list(retired.pristine)))
     finally:
         world.restore(initial)
     for refinement in active.values():
         failures += _retire(refinement, stats)
-    stats["sim_steps"] = world.sim_steps - sim_start
-    stats["dead_steps"] = memo.labels()
+    _final_counts(stats, supply, memo, world.sim_steps - sim_start)
     elapsed = time.perf_counter() - start
     if time.perf_counter() >= deadline:
         reason = f"timed out after {elapsed:.1f} s"
@@ -231,6 +164,11 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     else:
         reason = f"no plan exists: none of the {stats['skeletons']} skeletons could be refined"
     return PlanResult("unsolved", time_s=elapsed, stats=_finish_stats(stats, failures), reason=reason)
+
+
+def _final_counts(stats: Dict[str, object], supply: SkeletonSupply, memo: PristineFailures, sim_steps: int) -> None:
+    stats.update(skeletons=supply.taken, deferred=supply.deferrals, sim_steps=sim_steps, dead_steps=memo.labels())
+    stats["symbolic_s"] += supply.search_s
 
 
 def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
