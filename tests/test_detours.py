@@ -2,6 +2,7 @@
 pushes of the tool, a distractor lifted and put back; a box out of reach hooked closer and
 put down is explained once its grasp is dead."""
 import os
+import time
 
 import pytest
 
@@ -10,8 +11,9 @@ from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import prepare_task
 from pdsketch_mech.planner.detours import DETOUR_WEIGHT, detour_weight, unexplained_detours
-from pdsketch_mech.planner.pristine import touch_masks
+from pdsketch_mech.planner.pristine import DEAD_AFTER, PristineFailures, touch_masks
 from pdsketch_mech.planner.schedule import next_turn
+from pdsketch_mech.planner.supply import SkeletonSupply
 
 from conftest import ROOT
 
@@ -67,3 +69,19 @@ def test_each_unexplained_detour_delays_a_new_skeleton():
     assert next_turn(active, 2) == 2                    # a plain second skeleton comes now
     assert next_turn(active, 2, detour_weight(1)) == 1  # one that wanders waits
     assert next_turn([(1, 40)], 2, detour_weight(1)) == 2
+
+
+def test_the_supply_defers_skeletons_that_repeat_a_dead_step_and_hands_them_out_last(hook_slope):
+    task, _, _ = hook_slope
+    memo = PristineFailures()
+    supply = SkeletonSupply(task, memo, deadline=time.perf_counter() + 60, max_skeletons=12)
+    dead = ("grasp", ("target", "table"))
+    assert dead in supply.peek()[2]       # the first skeleton grasps the box where it lies
+    for _ in range(DEAD_AFTER):
+        memo.ran_dry(dead)
+    handed = [supply.take() for _ in range(12)]
+    # the skeleton looked at before the step died is set aside too, not handed out
+    assert not any(dead in taken[2] for taken in handed)
+    assert supply.deferrals >= 1 and supply.taken == 12
+    later = supply.take()                 # the cap is reached: deferred ones come now
+    assert later is not None and supply.memo.blocks(later[2])
