@@ -16,6 +16,13 @@ work while the mechanism's own skeleton (the 3rd) waited for its share. A skelet
 work is multiplied by DETOUR_WEIGHT per unexplained detour (schedule.py): such skeletons still
 come (the planner stays complete: an obstacle may need moving that no dead step names), but
 later and with less work.
+
+Measured with learned samplers on Table 1's test instances (same seeds; values simulated,
+which the machine's load does not change, geometric means): Hook 112 -> 89, Poking 36 -> 24,
+Lever 39 -> 36 (lever-test-4 solved in 559 s, unsolved before), the others unchanged; Table
+2's Hook-then-Place-on-Slope 9/10 -> 10/10, median 115 -> 75 s. The price shows where a push
+no failure explains was what worked: hook-test-1 (a push of the spoon before the hook) 88 ->
+250 values.
 """
 from __future__ import annotations
 
