@@ -122,8 +122,9 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 plan, steps, keys = supply.take()
                 label = " ".join(task.operators[o].label for o in plan)
                 created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
-                if supply.detours(plan):
-                    created[-1]["detours"] = supply.detours(plan)
+                detours = supply.detours(plan)
+                if detours:
+                    created[-1]["detours"] = detours
                 # Each skeleton draws from its own generator, seeded by the plan's seed and its
                 # labels: what one skeleton draws does not depend on which others came first
                 # (or were deferred), so a change in the skeleton order does not reshuffle luck.
