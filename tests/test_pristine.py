@@ -161,3 +161,30 @@ def test_one_dry_visit_of_the_first_step_does_not_end_a_skeleton_until_the_step_
     alone = _refinement(_DryFirst(dry=1), None)
     alone.run(deadline=float("inf"), max_work=1)
     assert alone.exhausted
+
+
+def test_a_dead_step_met_again_with_its_objects_where_they_began_is_not_sampled():
+    """A tool put down on the box out of reach leaves the box where it was: the grasp of the
+    box after it is the dead step again (skipped); after a push that moved it, it is not."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from pdsketch_mech.planner.refine import Refinement
+    memo = PristineFailures()
+    memo.bits = {"tool": 0, "box": 1}
+    steps = [_step("place", "tool", "box", "#p1"), _step("grasp", "box", "table", "#g2")]
+    moved = set()
+    world = SimpleNamespace(moved_since=lambda snapshot, name: name in moved)
+    refinement = Refinement(steps, start=None, world=world, task=SimpleNamespace(fact_ids={}), sampler=None,
+                            rng=np.random.default_rng(0), pristine=pristine_keys(steps, {"table"}), memo=memo)
+    assert refinement.pristine[1] is None                # the place touched the box symbolically
+    assert not refinement._dead_where_it_began(1)        # nothing is dead yet
+    for _ in range(DEAD_AFTER):
+        memo.ran_dry(("grasp", ("box", "table")))
+    assert refinement._dead_where_it_began(1)
+    moved.add("tool")                                    # the tool moved, the box did not
+    assert refinement._dead_where_it_began(1)
+    moved.add("box")
+    assert not refinement._dead_where_it_began(1)
+    assert not refinement._dead_where_it_began(0)        # the place is not dead

@@ -87,6 +87,22 @@ def test_snapshot_restore_is_exact():
         assert world.pose("b") == poses["b"]
 
 
+def test_moved_since_tells_a_nudged_or_turned_object_from_one_left_where_it_was():
+    with table_world(("box", "box/0", 0.5, 0.0)) as world:
+        start = world.snapshot()
+        world.step(20)                                   # resting: settling noise is not a move
+        assert not world.moved_since(start, "box")
+        position, orientation = world.pose("box")
+        world.set_pose("box", ((position[0] + 0.01, position[1], position[2]), orientation))
+        assert world.moved_since(start, "box")
+        world.restore(start)
+        turned = (Rotation.from_quat(orientation) * Rotation.from_euler("z", 5, degrees=True)).as_quat()
+        world.set_pose("box", (position, tuple(turned)))
+        assert world.moved_since(start, "box")
+        world.restore(start)
+        assert not world.moved_since(start, "box") and not world.moved_since(start, "table")
+
+
 def test_ik_solutions_are_verified_by_forward_kinematics():
     rng = np.random.default_rng(0)
     with World() as world:

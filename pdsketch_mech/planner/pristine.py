@@ -118,6 +118,14 @@ class PristineFailures:
             handled |= mask
         return False
 
+    def is_dead(self, name: str, args: Sequence[str]) -> bool:
+        """Whether the step `name args`, met as the scene began, is dead."""
+        return (name, _objects(args)) in self.dead
+
+    def movable(self, args: Sequence[str]) -> List[str]:
+        """The objects among `args` that steps may move (not fixed, not placeholders)."""
+        return [a for a in args if a in self.bits]
+
     def blocks(self, keys: Sequence[Optional[StepKey]]) -> bool:
         """Whether a skeleton with these step keys repeats a dead pristine step."""
         return any(k in self.dead for k in keys if k is not None)

@@ -76,6 +76,7 @@ class Refinement:
         self.visit_values = [0] * n   # values the current visit of each step has drawn
         self.visit_successes = [0] * n  # ... and how many of them simulated as expected
         self.values: List[Optional[Dict[str, object]]] = [None] * n
+        self.skipped = [False] * n    # the current visit of each step was known dead (not sampled)
         self.depth = 0
         self.deepest = 0              # most steps simulated in a row so far (statistics)
         self.root_yields = 0
@@ -100,14 +101,16 @@ class Refinement:
             if self.generators[i] is None:
                 # A mechanism's later steps are told what its earlier steps drew.
                 parents = {k: v for values in self.values[i - step.index:i] for k, v in (values or {}).items()}
-                self.generators[i] = itertools.islice(
+                self.skipped[i] = self._dead_where_it_began(i)
+                self.generators[i] = iter(()) if self.skipped[i] else itertools.islice(
                     self.sampler.samples(world, step.context(), self.rng, parents), TRIES_PER_VISIT)
                 self.visit_values[i] = 0
                 self.visit_successes[i] = 0
             values = next(self.generators[i], None)
             if values is None:  # this step is out of samples: revise the step before it
                 self.generators[i] = None
-                self.failures[f"{step.name}: no feasible parameters"] += 1
+                why = "dead, its objects where they began" if self.skipped[i] else "no feasible parameters"
+                self.failures[f"{step.name}: {why}"] += 1
                 if self.visit_values[i] == 0 and self.memo is not None and self.pristine:
                     self.memo.ran_dry(self.pristine[i])
                 if i > 0:
@@ -180,6 +183,20 @@ class Refinement:
         """A simulated step failed: count why, and tell the samplers of its values."""
         self.failures[reason] += 1
         self.sampler.note_outcome(values, False)
+
+    def _dead_where_it_began(self, i: int) -> bool:
+        """Whether step i is a step found dead (pristine.py) that earlier steps touched but
+        left where the scene began: a box out of reach with a tool put down on it, a plate a
+        weight did not tip. Sampling it would be the dead step's dry visit again, so the
+        visit is skipped (it still costs its unit of work); other values of the earlier steps
+        that do move the objects get the step sampled."""
+        memo, step = self.memo, self.steps[i]
+        if memo is None or not memo.dead or not self.pristine or self.pristine[i] is not None:
+            return False
+        objects = memo.movable(step.args)
+        if not objects or not memo.is_dead(step.name, step.args):
+            return False
+        return not any(self.world.moved_since(self.start, a) for a in objects)
 
     def _root_dead(self) -> bool:
         """Whether the first step's dry visit ends the skeleton: always without a shared

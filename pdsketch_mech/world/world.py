@@ -306,6 +306,20 @@ class World:
         self.arm_targets = np.array(snapshot.arm_targets)
         self.finger_target = snapshot.finger_target
 
+    def moved_since(self, snapshot: Snapshot, name: str, position_tol: float = 5e-3,
+                    angle_tol: float = 0.03) -> bool:
+        """Whether movable object `name` is more than `position_tol` metres or `angle_tol`
+        radians from where `snapshot` had it (or is held now, and was not then)."""
+        body_id = self.bodies[name].id
+        if self.attachment is not None and self.attachment.name == name:
+            return snapshot.held is None or snapshot.held[0] != name
+        for state in snapshot.bodies:
+            if state[0] == body_id:
+                pos, orn = p.getBasePositionAndOrientation(body_id, physicsClientId=self.client)
+                turned = 2 * np.arccos(min(1.0, abs(float(np.dot(orn, state[2])))))
+                return bool(np.linalg.norm(np.subtract(pos, state[1])) > position_tol or turned > angle_tol)
+        return False  # a fixed body never moves
+
     def reset_contact_caches(self) -> None:
         """Forget cached contacts (done by every restore; a fresh world calls it to match)."""
         reset_contact_caches(self.colliders, self.client)
