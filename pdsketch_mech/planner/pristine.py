@@ -10,6 +10,12 @@ samplers keep running dry there (DEAD_AFTER visits without one feasible value, n
 feasible), every skeleton that repeats it is deferred: kept aside, and refined only once the
 others run out, so the planner stays complete. Other objects may have moved (an obstacle
 cleared), which is why this defers rather than prunes.
+
+Symbols cannot tell a step that moves an object from one that only touches it: a weight set
+on a plate may tip it (the Lever mechanism) or leave it lying (a tool put down on the box out
+of reach), so a dead step after such a step is not pristine and its skeleton is not deferred.
+Refinement tells them apart in the scene (refine.py): a dead step met with its objects where
+the scene began is not sampled again.
 """
 from __future__ import annotations
 
