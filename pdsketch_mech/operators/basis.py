@@ -14,7 +14,7 @@ import numpy as np
 from ..samplers.grasp import grasp_opening
 from ..samplers.trajectory import approach_axis
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
-from ..world.attachment import relative_pose
+from ..world.attachment import relative_pose, rotation_angle
 from ..world.robot import CLOSED, MAX_OPENING
 from .execution import (ExecutionError, Recorder, back_out, fingers_touching, follow, follow_dynamic,
                         move_straight, set_fingers_dynamic)
@@ -55,8 +55,7 @@ def grasp_error(world: "World", grasp_: Grasp) -> Optional[str]:
     """Why the hand is not at `grasp_` relative to its object (None when it is)."""
     actual = relative_pose(world.pose(grasp_.object), world.tcp_pose())
     offset = float(np.linalg.norm(np.subtract(actual[0], grasp_.in_object[0])))
-    dot = abs(float(np.dot(actual[1], grasp_.in_object[1])))
-    angle = 2 * float(np.arccos(min(1.0, dot)))
+    angle = rotation_angle(actual[1], grasp_.in_object[1])
     if offset > GRASP_POSITION_TOLERANCE or angle > GRASP_ANGLE_TOLERANCE:
         return (f"the hand is {offset * 1000:.1f} mm and {np.degrees(angle):.1f} deg from the grasp of "
                 f"{grasp_.object}")

@@ -175,11 +175,11 @@ def _fingertip_points(opening: float) -> np.ndarray:
 
 def _clear_of_supports(world: "World", obj: str, frames: np.ndarray, points: np.ndarray,
                        bottom: float) -> np.ndarray:
-    """For each gripper frame of `frames` (n, 4, 4, world), whether no gripper point (`points`,
-    gripper frame: (m, 4), or (n, m, 4) per frame) that is low down lies less than
+    """For each gripper frame of `frames` (n, 4, 4, world), whether none of its gripper points
+    (`points`, (n, m, 4), gripper frame, each frame's own) that is low down lies less than
     SUPPORT_CLEARANCE above another body: one batched ray cast down past every low point of
     every frame."""
-    placed = np.einsum("nij,npj->npi" if points.ndim == 3 else "nij,pj->npi", frames[:, :3], points)
+    placed = np.einsum("nij,npj->npi", frames[:, :3], points)
     frame_of, point_of = np.nonzero(placed[..., 2] < bottom + SUPPORT_CLEARANCE)
     clear = np.ones(len(frames), dtype=bool)
     low = placed[frame_of, point_of]

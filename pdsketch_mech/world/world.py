@@ -18,7 +18,8 @@ import numpy as np
 import pybullet as p
 
 from ..lang.scene import SceneObject
-from .attachment import Attachment, compose, create_attachment, hand_inertial, held_pose, relative_pose, release
+from .attachment import (Attachment, compose, create_attachment, hand_inertial, held_pose, relative_pose,
+                         release, rotation_angle)
 from .robot import (ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, REACH, SHOULDER, TCP_LINK, WRIST,
                     Kinematics, Pose, disable_touching_self_pairs, load_panda)
 from .snapshot import Collider, Snapshot, collider_groups, reset_contact_caches, restore_snapshot, take_snapshot
@@ -316,8 +317,8 @@ class World:
         for state in snapshot.bodies:
             if state[0] == body_id:
                 pos, orn = p.getBasePositionAndOrientation(body_id, physicsClientId=self.client)
-                turned = 2 * np.arccos(min(1.0, abs(float(np.dot(orn, state[2])))))
-                return bool(np.linalg.norm(np.subtract(pos, state[1])) > position_tol or turned > angle_tol)
+                moved = float(np.linalg.norm(np.subtract(pos, state[1])))
+                return moved > position_tol or rotation_angle(orn, state[2]) > angle_tol
         return False  # a fixed body never moves
 
     def reset_contact_caches(self) -> None:
