@@ -13,7 +13,7 @@ none in 600 samples.
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import TYPE_CHECKING, Iterator, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Callable, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
@@ -24,6 +24,7 @@ from ..world.robot import MAX_OPENING
 from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_SPAN, FINGER_THICKNESS, HAND_BOX
 from .interface import Sampler, SampleRequest
+from .support_heights import SupportHeights
 from .types import Grasp, Pose
 
 if TYPE_CHECKING:
@@ -38,7 +39,6 @@ INSIDE = 1e-4           # ray origins start this far inside the surface
 BATCH = 32              # surface points per ray-casting batch
 ANGLES = 12             # approach angles about the closing axis examined per pair
 POINTS_PER_ATTEMPT = 6  # surface points examined per allowed proposal, however few pass
-RAYS_PER_BATCH = 4096   # below PyBullet's cap on one rayTestBatch
 # IK restarts for a candidate: a hard pose is dropped, drawing another candidate is cheaper
 # (10 restarts keep ~92 % of the poses 30 find, in about half the time).
 IK_RESTARTS = 10
@@ -173,24 +173,14 @@ def _fingertip_points(opening: float) -> np.ndarray:
                      for side in (-1, 1) for y in (inner, inner + FINGER_THICKNESS)])
 
 
-def _clear_of_supports(world: "World", obj: str, frames: np.ndarray, points: np.ndarray,
-                       bottom: float) -> np.ndarray:
+def _clear_of_supports(heights: SupportHeights, frames: np.ndarray, points: np.ndarray, bottom: float) -> np.ndarray:
     """For each gripper frame of `frames` (n, 4, 4, world), whether none of its gripper points
     (`points`, (n, m, 4), gripper frame, each frame's own) that is low down lies less than
-    SUPPORT_CLEARANCE above another body: one batched ray cast down past every low point of
-    every frame."""
+    SUPPORT_CLEARANCE above another body (`heights`: the surfaces under the object)."""
     placed = np.einsum("nij,npj->npi", frames[:, :3], points)
     frame_of, point_of = np.nonzero(placed[..., 2] < bottom + SUPPORT_CLEARANCE)
     clear = np.ones(len(frames), dtype=bool)
-    low = placed[frame_of, point_of]
-    ignore = {world.bodies[obj].id, world.robot, -1}
-    for start in range(0, len(low), RAYS_PER_BATCH):
-        chunk = low[start:start + RAYS_PER_BATCH]
-        starts = np.column_stack([chunk[:, :2], np.full(len(chunk), bottom + 0.01)])
-        ends = chunk - (0.0, 0.0, SUPPORT_CLEARANCE)
-        hits = p.rayTestBatch(starts.tolist(), ends.tolist(), physicsClientId=world.client)
-        blocked = [k for k, hit in enumerate(hits) if hit[0] not in ignore]
-        clear[frame_of[start:start + RAYS_PER_BATCH][blocked]] = False
+    clear[frame_of[~heights.clear(placed[frame_of, point_of], SUPPORT_CLEARANCE)]] = False
     return clear
 
 
@@ -201,19 +191,18 @@ def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
     return np.asarray(points)
 
 
-def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np.ndarray,
-                     pairs: Sequence[Tuple[np.ndarray, np.ndarray]], bottom: float,
+def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray,
+                     pairs: Sequence[Tuple[np.ndarray, np.ndarray]], heights: SupportHeights,
                      rng: np.random.Generator) -> List[np.ndarray]:
     """For each antipodal pair (p1, p2), the gripper frames (object frame, (k, 4, 4)) at ANGLES
     approach angles (random offset) that pass the cheap tests, before any IK: the approach is
-    not from below, the flange is within reach, no point of the object's surface is inside
-    the open gripper, and no part of the gripper low down sits less than SUPPORT_CLEARANCE
-    above another body's surface (the support: a batched ray cast down past each point of a
-    grid over the gripper). Under an overhang nothing is hit, so a plate pushed past the edge
-    stays graspable; a pinch whose hand would hang into the table is dropped here, sparing
-    ~0.1 s of failing IK. All pairs' frames are tested together, in one ray cast per test: a
-    plate lying flat rejects every pair, and a dry visit of its grasp is a third of an Edge
-    plan's time (per-pair casts took up to a third longer)."""
+    not from below, the flange is within reach, no part of the gripper low down sits less
+    than SUPPORT_CLEARANCE above another body's surface (the support, `heights`: points of a
+    grid over the gripper), and no point of the object's surface is inside the open gripper.
+    Under an overhang there is no support, so a plate pushed past the edge stays graspable; a
+    pinch whose hand would hang into the table is dropped here, sparing ~0.1 s of failing IK.
+    All pairs' frames are tested together, the cheapest test that rejects most first: the
+    fingertips against the support (a plate lying flat rejects every pair there)."""
     if not pairs:
         return []
     offsets = rng.uniform(-np.pi, np.pi, len(pairs))
@@ -223,6 +212,7 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
     in_world = placed @ frames
     reachable = world.within_reach_all(in_world.reshape(-1, 4, 4)).reshape(frames.shape[:2])
     keep = (in_world[..., 2, 2] <= MAX_UP) & reachable                      # (pairs, ANGLES)
+    _drop_on_support(keep, in_world, openings, _fingertip_points, heights)
     # Only surface points within the gripper's reach of a pair's midpoint can be inside it;
     # those, in every kept frame of the pair at once (a rigid frame's inverse is [R^T, -R^T t]).
     cloud = _surface_cloud(mesh)
@@ -232,15 +222,24 @@ def _approach_frames(world: "World", obj: str, mesh: trimesh.Trimesh, placed: np
         if len(near):
             local = np.matmul(near[None] - origin, frames[k, :, :3, :3])
             keep[k] &= ~_inside_gripper(local, openings[k]).any(axis=1)
-    # Fingertips first (few rays, and what most often hits the table), then the whole grid.
-    for points_of in (_fingertip_points, _gripper_points):
-        pair_of, angle_of = np.nonzero(keep)
-        if not len(pair_of):
-            break
-        points = np.stack([points_of(opening) for opening in openings])       # (pairs, m, 4)
-        clear = _clear_of_supports(world, obj, in_world[pair_of, angle_of], points[pair_of], bottom)
-        keep[pair_of[~clear], angle_of[~clear]] = False
+    _drop_on_support(keep, in_world, openings, _gripper_points, heights)
     return [frames[k][keep[k]] for k in range(len(pairs))]
+
+
+def _drop_on_support(keep: np.ndarray, in_world: np.ndarray, openings: np.ndarray,
+                     points_of: Callable[[float], np.ndarray], heights: SupportHeights) -> None:
+    """Clear `keep` (pairs, angles) where the gripper frame's points `points_of(opening)` are
+    not clear of the support."""
+    pair_of, angle_of = np.nonzero(keep)
+    if len(pair_of):
+        points = np.stack([points_of(opening) for opening in openings])       # (pairs, m, 4)
+        clear = _clear_of_supports(heights, in_world[pair_of, angle_of], points[pair_of], heights.bottom)
+        keep[pair_of[~clear], angle_of[~clear]] = False
+
+
+def _scene(world: "World") -> tuple:
+    """Where everything is: the support heights under an object hold while this does."""
+    return tuple(world.pose(name) for name in world.bodies) + (tuple(np.round(world.arm(), 6)),)
 
 
 def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_points: int) -> Iterator[Grasp]:
@@ -248,13 +247,17 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
     checks); examines at most `max_points` surface points."""
     mesh = body_mesh(world, obj)
     examined = 0
+    scene, heights = None, None
     while examined < max_points:
         count = min(BATCH, max_points - examined)
         examined += count
-        placed = pose_matrix(world.pose(obj))  # the caller may move things between batches
-        bottom = float((mesh.vertices @ placed[:3, :3].T + placed[:3, 3])[:, 2].min())
+        if _scene(world) != scene:  # the caller may move things between batches
+            scene = _scene(world)
+            placed = pose_matrix(world.pose(obj))
+            bottom = float((mesh.vertices @ placed[:3, :3].T + placed[:3, 3])[:, 2].min())
+            heights = SupportHeights(world, obj, bottom, _gripper_radius(MAX_OPENING))
         pairs = [(p1, p2) for p1, _, p2, _ in filter(None, antipodal_pairs(mesh, count, rng))]
-        for (p1, p2), frames in zip(pairs, _approach_frames(world, obj, mesh, placed, pairs, bottom, rng)):
+        for (p1, p2), frames in zip(pairs, _approach_frames(world, mesh, placed, pairs, heights, rng)):
             if len(frames):
                 frame = frames[int(rng.integers(len(frames)))]
                 yield Grasp(obj, matrix_pose(frame), float(np.linalg.norm(p2 - p1)),
