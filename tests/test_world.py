@@ -206,6 +206,46 @@ def test_held_object_follows_the_hand_and_is_checked_for_collisions():
             assert not CollisionChecker(world, ignore=["other"]).collides(above_other)
 
 
+def test_collision_checks_give_the_same_answers_without_the_objects_own_contacts(monkeypatch):
+    """A check computes only the arm's and the held object's contacts (World.check_groups):
+    over configurations near objects resting on each other, with and without a held object,
+    every answer is the one the canonical groups give, and afterwards stepping and the
+    contact graph see the objects' own contacts again."""
+    rng = np.random.default_rng(3)
+    with table_world(("base", "box/0", 0.5, 0.0), ("top", "block/0", 0.5, 0.2), ("held", "block/0", 0.4, -0.2)) as world:
+        world.rest_on("top", "base", (0.5, 0.0))
+        world.settle()
+        grasp = world.kinematics.ik(np.add(world.pose("held")[0], [0, 0, 0.01]), DOWN, rng)
+        targets = [np.add(world.pose(name)[0], rng.uniform([-0.05, -0.05, 0.0], [0.05, 0.05, 0.12]))
+                   for name in ("base", "top") for _ in range(60)]
+        configurations = [q for q in (world.kinematics.ik(t, DOWN, rng) for t in targets) if q is not None]
+        for holding in (False, True):
+            if holding:
+                world.set_arm(grasp)
+                world.attach("held")
+            checker, arm_only = CollisionChecker(world), CollisionChecker(world, check_held=False)
+            with world.saved():
+                fast = [checker.collides(q) for q in configurations]
+                by_arm = [arm_only.collides(q) for q in configurations]
+            with monkeypatch.context() as patch:
+                patch.setattr(World, "check_groups", lambda self: None)
+                with world.saved():
+                    canonical = [checker.collides(q) for q in configurations]
+            assert fast == canonical
+            assert 0 < sum(by_arm) < len(configurations)
+            assert (sum(fast) > sum(by_arm)) == holding   # the held block hits what the hand does not
+        # Left in check groups, outside any saved() block, the arm back where it was:
+        where = world.arm()
+        checker.collides(configurations[0])
+        world.set_arm(where)
+        assert ("top", "base") in read_contacts(world).support
+        checker.collides(configurations[0])
+        world.set_arm(where)
+        before = world.pose("top")
+        world.step(120)
+        assert moved(before, world.pose("top")) < 1e-3   # it still rests on the box
+
+
 def slide_distance(slope_asset, friction):
     with World() as world:
         world.add_object(SceneObject("slope", slope_asset, (0.5, 0, 0), fixed=True, friction=friction),

@@ -73,6 +73,7 @@ def support_frame(world: "World", target: str, support: str) -> Tuple[np.ndarray
     `target` and the mean contact point on the support; +z and the top of the support's
     bounding box under the target when they are not within 2 cm."""
     a, b, client = world.bodies[target].id, world.bodies[support].id, world.client
+    world.physics_groups()
     p.performCollisionDetection(physicsClientId=client)
     # A target resting a hair above its support has no contact points: use the closest ones.
     contacts = p.getContactPoints(a, b, physicsClientId=client) or p.getClosestPoints(a, b, 0.02, physicsClientId=client)

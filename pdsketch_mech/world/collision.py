@@ -38,6 +38,7 @@ class CollisionChecker:
         if world.attachment is not None:
             held_id = world.bodies[world.attachment.name].id
             world.set_pose(world.attachment.name, world.held_pose())
+        world.check_groups()
         p.performCollisionDetection(physicsClientId=client)
         for contact in p.getContactPoints(bodyA=world.robot, physicsClientId=client):
             other = contact[2]

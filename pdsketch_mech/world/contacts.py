@@ -54,6 +54,7 @@ class ContactGraph:
 def read_contacts(world: "World") -> ContactGraph:
     """The contact graph of the world as it is now (no stepping)."""
     client = world.client
+    world.physics_groups()
     p.performCollisionDetection(physicsClientId=client)
     names = {body.id: name for name, body in world.bodies.items()}
     held = world.attachment.name if world.attachment else None

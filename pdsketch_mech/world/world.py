@@ -22,7 +22,8 @@ from .attachment import (Attachment, compose, create_attachment, hand_inertial, 
                          release, rotation_angle)
 from .robot import (ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, REACH, SHOULDER, TCP_LINK, WRIST,
                     Kinematics, Pose, disable_touching_self_pairs, load_panda)
-from .snapshot import Collider, Snapshot, collider_groups, reset_contact_caches, restore_snapshot, take_snapshot
+from .snapshot import (Collider, Snapshot, collider_groups, reset_contact_caches, restore_snapshot, set_check_groups,
+                       take_snapshot)
 
 TIME_STEP = 1.0 / 240.0
 GRIPPER_FORCE = 40.0
@@ -70,6 +71,7 @@ class World:
         # The base is bolted down: where the shoulder is never changes (within_reach's hot path).
         self.shoulder = np.array(compose(robot_base, ((0, 0, SHOULDER), (0, 0, 0, 1)))[0])  # the arm's first pivot
         self._colliders: Optional[Tuple[Collider, ...]] = None
+        self._checking: Optional[int] = None  # the held body's id (-1: none) while check groups are on
         self.set_arm(HOME)
         self.set_fingers(MAX_OPENING / 2)
         self._hold_position()
@@ -241,6 +243,7 @@ class World:
 
     # ------------------------------------------------------------------ physics
     def step(self, steps: int = 1) -> None:
+        self.physics_groups()
         self._hold_position()
         for _ in range(steps):
             p.stepSimulation(physicsClientId=self.client)
@@ -301,6 +304,7 @@ class World:
     def restore(self, snapshot: Snapshot) -> None:
         """Back to `snapshot`, canonically: simulating on gives what a fresh world that
         reached the same state would (snapshot.py)."""
+        self._checking = None  # the restore puts the canonical groups back
         self.attachment = restore_snapshot(
             self.client, self.robot, snapshot, self.attachment, {n: b.id for n, b in self.bodies.items()},
             {n: b.inertial for n, b in self.bodies.items()}, self.hand_com, self.colliders)
@@ -324,6 +328,22 @@ class World:
     def reset_contact_caches(self) -> None:
         """Forget cached contacts (done by every restore; a fresh world calls it to match)."""
         reset_contact_caches(self.colliders, self.client)
+        self._checking = None
+
+    def check_groups(self) -> None:
+        """Collision groups for checking arm configurations (snapshot.py `set_check_groups`):
+        contacts between objects that are not the arm's are not computed until
+        `physics_groups`, which stepping and reading the contact graph call."""
+        held = self.bodies[self.attachment.name].id if self.attachment is not None else -1
+        if self._checking != held:
+            set_check_groups(self.colliders, self.robot, held, self.client)
+            self._checking = held
+
+    def physics_groups(self) -> None:
+        """The canonical collision groups back, if checking changed them (and the contacts
+        cached meanwhile forgotten, as a restore would)."""
+        if self._checking is not None:
+            self.reset_contact_caches()
 
     @contextlib.contextmanager
     def saved(self) -> Iterator["World"]:
