@@ -44,3 +44,21 @@ def test_bench_startup_reports_every_case(tmp_path, capsys):
     figures = json.loads(out.read_text())
     assert [c["target_s"] for c in figures["cases"]] == [0.3, 0.3, None]
     assert all(c["median_s"] > 0 for c in figures["cases"])
+
+
+def test_a_command_gives_numpy_one_blas_thread_unless_the_user_chose():
+    """`python -m pdsketch_mech.X` sets OPENBLAS_NUM_THREADS=1 before numpy is imported
+    (process.limit_blas_threads: BLAS threads spin against a benchmark's other plan), and
+    leaves a value the user set alone; a library user's process is not touched."""
+    def threads(orig_argv, env_value):
+        script = (f"import sys\nsys.orig_argv = {orig_argv!r}\nimport os, pdsketch_mech\n"
+                  f"assert 'numpy' not in sys.modules\nprint(os.environ.get('OPENBLAS_NUM_THREADS'))")
+        env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+        if env_value is not None:
+            env["OPENBLAS_NUM_THREADS"] = env_value
+        done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=ROOT, env=env, check=True)
+        return done.stdout.strip()
+    command = [sys.executable, "-m", "pdsketch_mech.plan"]
+    assert threads(command, None) == "1"
+    assert threads(command, "2") == "2"
+    assert threads([sys.executable, "-c", "pass"], None) == "None"
