@@ -273,7 +273,7 @@ def test_samplers_stop_after_max_attempts_when_nothing_is_reachable():
         hold(world, "block", np.random.default_rng(4))
         calls = record_ik(world)
         assert list(sample_placements(world, "block", "far", np.random.default_rng(4), max_attempts=15)) == []
-        assert 0 < len(calls) <= 15
+        assert calls == []  # the reach bound rejects every placement before any IK solve
         world.detach()
         world.add_object(SceneObject("far-block", "block/0", (1.5, 0.0, 0.2)), resolve_asset("block/0", ASSETS))
         world.rest_on("far-block", "far", (1.5, 0.0))

@@ -107,6 +107,8 @@ def placement_configurations(world: "World", placement: Placement, rng: np.rando
     if held is None or held.name != placement.object:
         raise ValueError(f"placing '{placement.object}' requires holding it")
     tcp = p.multiplyTransforms(*placement.pose, *world.held_tcp_in_object())
+    if not world.within_reach(pose_matrix(tcp)):  # spares IK's failing restarts (~10 ms)
+        return None
     q = kin.ik(tcp[0], tcp[1], rng, seed=world.arm(), restarts=IK_RESTARTS)
     if q is None:
         return None
