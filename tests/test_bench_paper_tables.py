@@ -94,6 +94,14 @@ def test_table2_reports_success_rates_and_the_paper_rates():
     assert any("did not replay" in line for line in lines)
 
 
+def test_table2_draws_success_rates_beside_the_papers_and_every_runs_time(tmp_path):
+    trials = [trial("hook-slope", "macro+sampler", 0, time_s=12.0), trial("hook-slope", "macro+sampler", 1, "unsolved"),
+              trial("push-pick-hook", "macro", 0, time_s=40.0)]
+    png = tmp_path / "t2.png"
+    compose.plot(trials, list(compose.TABLE2), ["macro", "macro+sampler"], 60.0, str(png), "t")
+    assert png.read_bytes()[:4] == b"\x89PNG" and png.stat().st_size > 10_000
+
+
 def one_error_line(capsys, argv, expected):
     try:
         code = main(argv)

@@ -43,3 +43,55 @@ def table(trials: Sequence[Trial], columns: Sequence[PaperComposition],
     lines = ["n/N: plans found within the limit that replay in a fresh world; median over those"]
     lines += [f"{t.instance} {t.method}: {t.reason}" for t in invalid]
     return header, rows, lines
+
+
+COLOURS = {"basis": "#9e9e9e", "macro": "#4c72b0", "macro+sampler": "#dd8452"}
+
+
+def plot(trials: Sequence[Trial], columns: Sequence[PaperComposition], methods: Sequence[str], timeout: float,
+         path: str, title: str) -> None:
+    """Left: success rates, a group per task, ours solid and the paper's hatched beside them.
+    Right: every run's time (log), those that did not finish marked x at the limit: with
+    times this heavy-tailed, the spread says more than the median."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from ..cli import atomic_file
+    fig, (rates, times) = plt.subplots(1, 2, figsize=(max(8.0, 3.6 * len(columns)), 4.0))
+    x = np.arange(len(columns))
+    width = 0.8 / (2 * len(methods))
+    for k, m in enumerate(methods):
+        runs = [[t for t in trials if t.task == c.task and t.method == m] for c in columns]
+        ours = [sum(t.status == "solved" for t in r) / len(r) if r else 0.0 for r in runs]
+        offset = (2 * k - len(methods) + 0.5) * width
+        bars = rates.bar(x + offset, ours, width, color=COLOURS.get(m), label=f"{METHOD_TITLES[m]} (ours)")
+        for bar, r in zip(bars, runs):
+            if r:
+                solved = sum(t.status == "solved" for t in r)
+                rates.annotate(f"{solved}/{len(r)}", (bar.get_x() + width / 2, bar.get_height()), ha="center",
+                               va="bottom", fontsize=7)
+        rates.bar(x + offset + width, [c.paper[m] for c in columns], width, color="white", edgecolor=COLOURS.get(m),
+                  hatch="///", label=f"{METHOD_TITLES[m]} (paper)")
+        for i, r in enumerate(runs):
+            jitter = np.linspace(-0.08, 0.08, max(1, len(r)))   # runs side by side, not on one another
+            for j, t in enumerate(r):
+                done = t.status == "solved"
+                times.scatter(i + (k - (len(methods) - 1) / 2) * 0.25 + jitter[j], t.time_s if done else timeout,
+                              marker="o" if done else "x", color=COLOURS.get(m), s=18,
+                              label=METHOD_TITLES[m] if i == 0 and j == 0 else None)
+    for ax in (rates, times):
+        ax.set_xticks(x, [c.title for c in columns], fontsize=8)
+    rates.set_ylim(0, 1.15)
+    rates.set_ylabel("success rate")
+    rates.legend(fontsize=7, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.1), frameon=False)
+    times.set_yscale("log")
+    times.axhline(timeout, color="k", lw=0.6, ls="--")
+    times.set_ylabel("solve time per run (s, log; x: not solved)")
+    times.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=len(methods), frameon=False)
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    with atomic_file(path, binary=True, suffix=".png") as handle:
+        fig.savefig(handle, format="png", dpi=90)
+    plt.close(fig)
