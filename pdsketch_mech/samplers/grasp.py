@@ -68,24 +68,26 @@ def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """u x v for two 3-vectors (np.cross's generality costs ~80 us a call; this is its hot path)."""
-    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]])
+    """Row-wise u x v of (n, 3) arrays (np.cross's generality costs ~80 us a call; this is its hot path)."""
+    return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1], u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                     u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)
 
 
 def gripper_frames(p1: np.ndarray, p2: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """(n, 4, 4) gripper frames in the object frame: origin at the midpoint, y along
-    p2 - p1, z (approach) at each of `angles` about y."""
-    y = (p2 - p1) / np.linalg.norm(p2 - p1)
-    helper = np.eye(3)[int(np.argmin(np.abs(y)))]  # the axis least parallel to y
+    """(n, k, 4, 4) gripper frames in the object frame for n antipodal pairs (p1, p2: (n, 3)):
+    origin at the midpoint, y along p2 - p1, z (approach) at each of a pair's `angles` (n, k)
+    about y."""
+    y = (p2 - p1) / np.linalg.norm(p2 - p1, axis=1, keepdims=True)
+    helper = np.eye(3)[np.argmin(np.abs(y), axis=1)]  # the axis least parallel to y
     a = _cross(y, helper)
-    a /= np.linalg.norm(a)
+    a /= np.linalg.norm(a, axis=1, keepdims=True)
     b = _cross(y, a)
-    cos, sin = np.cos(angles)[:, None], np.sin(angles)[:, None]
-    frames = np.tile(np.eye(4), (len(angles), 1, 1))
-    frames[:, :3, 0] = cos * b + sin * _cross(y, b)   # x = y cross z (b = y cross a)
-    frames[:, :3, 1] = y
-    frames[:, :3, 2] = cos * a + sin * b
-    frames[:, :3, 3] = (p1 + p2) / 2
+    cos, sin = np.cos(angles)[..., None], np.sin(angles)[..., None]            # (n, k, 1)
+    frames = np.tile(np.eye(4), angles.shape + (1, 1))
+    frames[..., :3, 0] = cos * b[:, None] + sin * _cross(y, b)[:, None]   # x = y cross z (b = y cross a)
+    frames[..., :3, 1] = y[:, None]
+    frames[..., :3, 2] = cos * a[:, None] + sin * b[:, None]
+    frames[..., :3, 3] = ((p1 + p2) / 2)[:, None]
     return frames
 
 
@@ -207,8 +209,8 @@ def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray,
         return []
     offsets = rng.uniform(-np.pi, np.pi, len(pairs))
     openings = np.array([grasp_opening(float(np.linalg.norm(p2 - p1))) for p1, p2 in pairs])
-    frames = np.stack([gripper_frames(p1, p2, offset + np.arange(ANGLES) * 2 * np.pi / ANGLES)
-                       for (p1, p2), offset in zip(pairs, offsets)])          # (pairs, ANGLES, 4, 4)
+    ends = np.asarray(pairs)                                                 # (pairs, 2, 3)
+    frames = gripper_frames(ends[:, 0], ends[:, 1], offsets[:, None] + np.arange(ANGLES) * 2 * np.pi / ANGLES)
     in_world = placed @ frames
     reachable = world.within_reach_all(in_world.reshape(-1, 4, 4)).reshape(frames.shape[:2])
     keep = (in_world[..., 2, 2] <= MAX_UP) & reachable                      # (pairs, ANGLES)
