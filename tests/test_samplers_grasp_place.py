@@ -126,6 +126,25 @@ def test_pairs_across_non_parallel_faces_are_not_antipodal():
                          for p1, n1, p2, _ in pairs)
 
 
+def test_grasp_proposals_draw_antipodal_pairs_from_one_pool_per_shape(monkeypatch):
+    """The pairs of a shape are found once (grasp.antipodal_pool) and every proposal's points
+    come from that pool, wherever the object lies: a later proposal casts no ray through the mesh."""
+    import pdsketch_mech.samplers.grasp as grasp
+    with table_world(("block", "block/0", 0.5, 0.0)) as world:
+        mesh = body_mesh(world, "block")
+        grasp.antipodal_pool.cache_clear()
+        calls = []
+        original = grasp.antipodal_pairs
+        monkeypatch.setattr(grasp, "antipodal_pairs", lambda *a: calls.append(a[1]) or original(*a))
+        first = list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
+        world.set_pose("block", ((0.45, 0.1, world.pose("block")[0][2]), world.pose("block")[1]))
+        second = list(grasp.propose_grasps(world, "block", np.random.default_rng(1), 120))
+        assert calls == [grasp.POOL_POINTS] and first and second
+        has_pair, p1s, p2s = grasp.antipodal_pool(mesh)
+        pooled = {tuple(np.round(p, 9)) for p in p1s[has_pair]}
+        assert all(tuple(np.round(g.points[0], 9)) in pooled for g in first + second)
+
+
 def test_same_seed_gives_the_same_grasps():
     with table_world(("block", "block/0", 0.5, 0.0)) as world:
         runs = [[g for g, _ in zip(sample_grasps(world, "block", np.random.default_rng(7)), range(2))]

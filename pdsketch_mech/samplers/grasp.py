@@ -67,6 +67,23 @@ def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
         yield (p1[i], n1[i], p2, n2) if ok else None
 
 
+POOL_POINTS = 4096      # surface points of an object whose antipodal partners are found once
+
+
+@lru_cache(maxsize=64)
+def antipodal_pool(mesh: trimesh.Trimesh) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(has_pair (POOL_POINTS,), p1, p2 (POOL_POINTS, 3)): POOL_POINTS surface points drawn
+    once per shape (seed 0) and their antipodal partners, in the object's frame. Pairs do
+    not depend on where the object is, and finding them (a ray through the mesh per point)
+    was a tenth of a Lever plan; proposals draw points from this pool instead."""
+    has_pair = np.zeros(POOL_POINTS, dtype=bool)
+    p1s, p2s = np.zeros((POOL_POINTS, 3)), np.zeros((POOL_POINTS, 3))
+    for i, pair in enumerate(antipodal_pairs(mesh, POOL_POINTS, np.random.default_rng(0))):
+        if pair is not None:
+            has_pair[i], p1s[i], p2s[i] = True, pair[0], pair[2]
+    return has_pair, p1s, p2s
+
+
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Row-wise u x v of (n, 3) arrays (np.cross's generality costs ~80 us a call; this is its hot path)."""
     return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1], u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
@@ -258,7 +275,9 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
             placed = pose_matrix(world.pose(obj))
             bottom = float((mesh.vertices @ placed[:3, :3].T + placed[:3, 3])[:, 2].min())
             heights = SupportHeights(world, obj, bottom, _gripper_radius(MAX_OPENING))
-        pairs = [(p1, p2) for p1, _, p2, _ in filter(None, antipodal_pairs(mesh, count, rng))]
+        has_pair, p1s, p2s = antipodal_pool(mesh)
+        drawn = rng.integers(POOL_POINTS, size=count)
+        pairs = [(p1s[i], p2s[i]) for i in drawn[has_pair[drawn]]]
         for (p1, p2), frames in zip(pairs, _approach_frames(world, mesh, placed, pairs, heights, rng)):
             if len(frames):
                 frame = frames[int(rng.integers(len(frames)))]
