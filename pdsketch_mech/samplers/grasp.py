@@ -192,12 +192,12 @@ def _fingertip_points(opening: float) -> np.ndarray:
                      for side in (-1, 1) for y in (inner, inner + FINGER_THICKNESS)])
 
 
-def _clear_of_supports(heights: SupportHeights, frames: np.ndarray, points: np.ndarray, bottom: float) -> np.ndarray:
+def _clear_of_supports(heights: SupportHeights, frames: np.ndarray, points: np.ndarray) -> np.ndarray:
     """For each gripper frame of `frames` (n, 4, 4, world), whether none of its gripper points
     (`points`, (n, m, 4), gripper frame, each frame's own) that is low down lies less than
     SUPPORT_CLEARANCE above another body (`heights`: the surfaces under the object)."""
     placed = np.einsum("nij,npj->npi", frames[:, :3], points)
-    frame_of, point_of = np.nonzero(placed[..., 2] < bottom + SUPPORT_CLEARANCE)
+    frame_of, point_of = np.nonzero(placed[..., 2] < heights.bottom + SUPPORT_CLEARANCE)
     clear = np.ones(len(frames), dtype=bool)
     clear[frame_of[~heights.clear(placed[frame_of, point_of], SUPPORT_CLEARANCE)]] = False
     return clear
@@ -252,7 +252,7 @@ def _drop_on_support(keep: np.ndarray, in_world: np.ndarray, openings: np.ndarra
     pair_of, angle_of = np.nonzero(keep)
     if len(pair_of):
         points = np.stack([points_of(opening) for opening in openings])       # (pairs, m, 4)
-        clear = _clear_of_supports(heights, in_world[pair_of, angle_of], points[pair_of], heights.bottom)
+        clear = _clear_of_supports(heights, in_world[pair_of, angle_of], points[pair_of])
         keep[pair_of[~clear], angle_of[~clear]] = False
 
 
