@@ -7,7 +7,7 @@ import statistics
 from dataclasses import dataclass
 from typing import Dict, List, Sequence, Tuple
 
-from .trials import METHOD_TITLES, Trial
+from .trials import METHOD_COLOURS, METHOD_TITLES, Trial
 
 
 @dataclass(frozen=True)
@@ -45,9 +45,6 @@ def table(trials: Sequence[Trial], columns: Sequence[PaperComposition],
     return header, rows, lines
 
 
-COLOURS = {"basis": "#9e9e9e", "macro": "#4c72b0", "macro+sampler": "#dd8452"}
-
-
 def plot(trials: Sequence[Trial], columns: Sequence[PaperComposition], methods: Sequence[str], timeout: float,
          path: str, title: str) -> None:
     """Left: success rates, a group per task, ours solid and the paper's hatched beside them.
@@ -64,22 +61,22 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperComposition], methods: 
     width = 0.8 / (2 * len(methods))
     for k, m in enumerate(methods):
         runs = [[t for t in trials if t.task == c.task and t.method == m] for c in columns]
-        ours = [sum(t.status == "solved" for t in r) / len(r) if r else 0.0 for r in runs]
+        solved = [sum(t.status == "solved" for t in r) for r in runs]
         offset = (2 * k - len(methods) + 0.5) * width
-        bars = rates.bar(x + offset, ours, width, color=COLOURS.get(m), label=f"{METHOD_TITLES[m]} (ours)")
-        for bar, r in zip(bars, runs):
+        bars = rates.bar(x + offset, [s / len(r) if r else 0.0 for s, r in zip(solved, runs)], width,
+                         color=METHOD_COLOURS.get(m), label=f"{METHOD_TITLES[m]} (ours)")
+        for bar, r, s in zip(bars, runs, solved):
             if r:
-                solved = sum(t.status == "solved" for t in r)
-                rates.annotate(f"{solved}/{len(r)}", (bar.get_x() + width / 2, bar.get_height()), ha="center",
+                rates.annotate(f"{s}/{len(r)}", (bar.get_x() + width / 2, bar.get_height()), ha="center",
                                va="bottom", fontsize=7)
-        rates.bar(x + offset + width, [c.paper[m] for c in columns], width, color="white", edgecolor=COLOURS.get(m),
-                  hatch="///", label=f"{METHOD_TITLES[m]} (paper)")
+        rates.bar(x + offset + width, [c.paper[m] for c in columns], width, color="white",
+                  edgecolor=METHOD_COLOURS.get(m), hatch="///", label=f"{METHOD_TITLES[m]} (paper)")
         for i, r in enumerate(runs):
             jitter = np.linspace(-0.08, 0.08, max(1, len(r)))   # runs side by side, not on one another
             for j, t in enumerate(r):
                 done = t.status == "solved"
                 times.scatter(i + (k - (len(methods) - 1) / 2) * 0.25 + jitter[j], t.time_s if done else timeout,
-                              marker="o" if done else "x", color=COLOURS.get(m), s=18,
+                              marker="o" if done else "x", color=METHOD_COLOURS.get(m), s=18,
                               label=METHOD_TITLES[m] if i == 0 and j == 0 else None)
     for ax in (rates, times):
         ax.set_xticks(x, [c.title for c in columns], fontsize=8)

@@ -14,7 +14,7 @@ import statistics
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from .trials import METHOD_TITLES, Job, Trial
+from .trials import METHOD_COLOURS, METHOD_TITLES, Job, Trial
 
 
 @dataclass(frozen=True)
@@ -153,7 +153,6 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequenc
 
     from ..cli import atomic_file
     figures = cells(trials, columns, methods, timeout)
-    colours = {"basis": "#9e9e9e", "macro": "#4c72b0", "macro+sampler": "#dd8452"}
     fig, ax = plt.subplots(figsize=(max(6.0, 1.9 * len(columns)), 4.2))
     x = np.arange(len(columns))
     width = 0.8 / (2 * len(methods))
@@ -162,13 +161,14 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequenc
         heights = [c.mean_s if c else 0 for c in ours]
         errors = [c.stderr_s if c else 0 for c in ours]
         offset = (2 * k - len(methods) + 0.5) * width
-        bars = ax.bar(x + offset, heights, width, yerr=errors, color=colours.get(m), label=f"{METHOD_TITLES[m]} (ours)")
+        bars = ax.bar(x + offset, heights, width, yerr=errors, color=METHOD_COLOURS.get(m),
+                      label=f"{METHOD_TITLES[m]} (ours)")
         for bar, c in zip(bars, ours):
             if c is not None:  # above the error bar
                 ax.annotate(f"{c.solved}/{c.trials}", (bar.get_x() + width / 2, c.mean_s + c.stderr_s), ha="center",
                             va="bottom", fontsize=7)
         paper = [c.paper[m] if c.paper[m] is not None else PAPER_LIMIT for c in columns]
-        ax.bar(x + offset + width, paper, width, color="white", edgecolor=colours.get(m), hatch="///",
+        ax.bar(x + offset + width, paper, width, color="white", edgecolor=METHOD_COLOURS.get(m), hatch="///",
                label=f"{METHOD_TITLES[m]} (paper)")
     ax.set_yscale("log")
     ax.axhline(timeout, color="k", lw=0.6, ls="--")

@@ -26,6 +26,7 @@ METHOD_FLAGS: Dict[str, Tuple[str, ...]] = {
 }
 METHODS = tuple(METHOD_FLAGS)
 METHOD_TITLES = {"basis": "Basis only", "macro": "Macro", "macro+sampler": "Macro+Sampler"}
+METHOD_COLOURS = {"basis": "#9e9e9e", "macro": "#4c72b0", "macro+sampler": "#dd8452"}   # both tables' plots
 
 
 class TrialsError(ValueError):

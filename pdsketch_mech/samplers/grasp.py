@@ -270,8 +270,9 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
     while examined < max_points:
         count = min(BATCH, max_points - examined)
         examined += count
-        if _scene(world) != scene:  # the caller may move things between batches
-            scene = _scene(world)
+        now = _scene(world)
+        if now != scene:  # the caller may move things between batches
+            scene = now
             placed = pose_matrix(world.pose(obj))
             bottom = float((mesh.vertices @ placed[:3, :3].T + placed[:3, 3])[:, 2].min())
             heights = SupportHeights(world, obj, bottom, _gripper_radius(MAX_OPENING))
