@@ -290,6 +290,26 @@ def test_rendering_produces_a_non_blank_image(tmp_path):
         assert (tmp_path / "scene.png").stat().st_size > 1000 and (tmp_path / "scene.gif").stat().st_size > 1000
 
 
+def test_a_world_without_visual_shapes_has_the_same_physics_and_refuses_to_render():
+    """Planning worlds skip the meshes only a camera sees: the plate tipping over the
+    edge must fall the same way, and rendering such a world is a clear error."""
+    def tipped(visual):
+        world = World(visual=visual)
+        world.add_object(SceneObject("table", "table", (0.6, 0, 0), fixed=True), resolve_asset("table", ASSETS))
+        world.add_object(SceneObject("plate", "plate/0", (0.5, 0, 0.5)), resolve_asset("plate/0", ASSETS))
+        with world:
+            edge = world.aabb("table")[1][0]
+            world.rest_on("plate", "table", (edge + 0.01, 0.0))
+            world.settle(max_steps=240)
+            if not visual:
+                with pytest.raises(ValueError, match="without visual shapes"):
+                    render(world)
+            return world.pose("plate")
+    with_meshes, without = tipped(True), tipped(False)
+    assert with_meshes[0][2] < -0.02   # it fell: the comparison below is of a real motion
+    assert np.allclose(with_meshes[0], without[0], atol=1e-9) and np.allclose(with_meshes[1], without[1], atol=1e-9)
+
+
 SCENE_PROBLEM = """(define (problem p) (:domain mech-basis) (:objects table a b - item)
   (:init (handempty)) (:goal (holding a))
   (:scene (table :asset "table" :position (0.6 0 0) :fixed)

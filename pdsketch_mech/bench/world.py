@@ -30,7 +30,7 @@ OBSTACLES = [("box/0", 0.55, 0.0, 0.3), ("brick/0", 0.42, -0.25, 1.2), ("block/0
 def tabletop(seed: int = 0) -> World:
     """The benchmark scene: the table's top at z = 0 in front of the robot, and obstacles."""
     root = assets_root()
-    world = World()
+    world = World(visual=False)
     world.add_object(SceneObject("table", "table", (0.6, 0.0, 0.0), fixed=True), resolve_asset("table", root))
     for i, (asset, x, y, yaw) in enumerate(OBSTACLES):
         name = f"obstacle{i}"

@@ -155,7 +155,7 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
     # Only the mechanism's own macros: the skeleton is fixed, so basis operators are not needed.
     candidates = episode_groundings(task, mechanism.name, config.grounding)
     started = time.perf_counter()
-    with build_world(problem) as world:
+    with build_world(problem, visual=False) as world:
         settle_start(world)
         start = world.snapshot()
         if not candidates:

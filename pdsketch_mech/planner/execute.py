@@ -107,7 +107,7 @@ def execute_plan(task: StripsTask, problem: Problem, steps: Sequence[Dict[str, A
                  recorder: Optional[Recorder] = None) -> ExecutionResult:
     """Run plan `steps` (JSON entries with "name", "args", "params") in a fresh world built
     from `problem`'s scene, each from a canonical restore, and check the goal at the end."""
-    with build_world(problem) as world:
+    with build_world(problem, visual=recorder is not None) as world:
         settle_start(world)
         if recorder:
             recorder.tick(world, force=True)

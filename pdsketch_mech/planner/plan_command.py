@@ -31,7 +31,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
                               "streams, so the planner needs the physical scene", problem.loc))
         return EXIT_BAD_INPUT
     try:
-        world = build_world(problem)
+        world = build_world(problem, visual=False)  # the GIF is rendered from a fresh replay
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT

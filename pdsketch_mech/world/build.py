@@ -46,11 +46,13 @@ def resolve_scene_assets(problem: Problem, root: Optional[str] = None) -> Dict[s
     return urdfs
 
 
-def build_world(problem: Problem, assets_root: Optional[str] = None, gui: bool = False) -> World:
-    """The world of `problem`'s scene, checked; closes the half-built world if anything fails."""
+def build_world(problem: Problem, assets_root: Optional[str] = None, gui: bool = False,
+                visual: bool = True) -> World:
+    """The world of `problem`'s scene, checked; closes the half-built world if anything fails.
+    `visual=False` for a world no camera will see (World)."""
     objects = build_scene(problem)
     urdfs = resolve_scene_assets(problem, assets_root)
-    world = World(gui=gui)
+    world = World(gui=gui, visual=visual)
     try:
         base = p.getBasePositionAndOrientation(world.robot, physicsClientId=world.client)[0]
         for obj in objects:

@@ -28,6 +28,8 @@ class Camera:
 
 def render(world: "World", camera: Camera = Camera()) -> np.ndarray:
     """An RGB image (height, width, 3) of the world as it is now."""
+    if not world.visual:
+        raise ValueError("this world was built without visual shapes (visual=False): nothing to render")
     view = p.computeViewMatrixFromYawPitchRoll(camera.target, camera.distance, camera.yaw, camera.pitch, 0, 2,
                                                physicsClientId=world.client)
     projection = p.computeProjectionMatrixFOV(camera.fov, camera.width / camera.height, 0.02, 10.0,

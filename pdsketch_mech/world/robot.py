@@ -30,10 +30,15 @@ REACH = 0.82             # no flange is farther than this from the shoulder (FK 
 Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]  # (xyz, quaternion xyzw)
 
 
-def load_panda(client: int, base: Pose = ((0, 0, 0), (0, 0, 0, 1)), self_collision: bool = True) -> int:
+def load_panda(client: int, base: Pose = ((0, 0, 0), (0, 0, 0, 1)), self_collision: bool = True,
+               visual: bool = True, collision: bool = True) -> int:
     """Load the arm with self-collision between non-adjacent links (DESIGN.md: the
-    EXCLUDE_PARENT flag keeps it; EXCLUDE_ALL_PARENTS would disable it on a serial arm)."""
+    EXCLUDE_PARENT flag keeps it; EXCLUDE_ALL_PARENTS would disable it on a serial arm).
+    Without `visual` the meshes only a camera sees are not read (5/6 of loading the arm);
+    without `collision` it is a kinematic chain only (IK and FK)."""
     flags = p.URDF_USE_SELF_COLLISION | p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT if self_collision else 0
+    flags |= 0 if visual else p.URDF_IGNORE_VISUAL_SHAPES
+    flags |= 0 if collision else p.URDF_IGNORE_COLLISION_SHAPES
     return p.loadURDF(PANDA_URDF, base[0], base[1], useFixedBase=True, flags=flags, physicsClientId=client)
 
 
@@ -72,7 +77,7 @@ class Kinematics:
 
     def __init__(self, base: Pose = ((0, 0, 0), (0, 0, 0, 1))):
         self.client = p.connect(p.DIRECT)
-        self.body = load_panda(self.client, base, self_collision=False)
+        self.body = load_panda(self.client, base, self_collision=False, visual=False, collision=False)
         self.limits = joint_limits(self.body, self.client)
         self._ranges = list(self.limits.upper - self.limits.lower)
 

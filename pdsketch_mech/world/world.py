@@ -51,14 +51,18 @@ class SceneError(ValueError):
 class World:
     """A simulated tabletop: the Panda at `robot_base` and objects added from a scene."""
 
-    def __init__(self, gui: bool = False, robot_base: Pose = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))):
+    def __init__(self, gui: bool = False, robot_base: Pose = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+                 visual: bool = True):
+        """`visual=False` skips the meshes only a camera sees: a world that is never rendered
+        (planning, self-play) loads in a fraction of the time, with the same physics."""
         self.client = p.connect(p.GUI if gui else p.DIRECT)
+        self.visual = visual or gui
         p.setGravity(0, 0, -9.81, physicsClientId=self.client)
         p.setTimeStep(TIME_STEP, physicsClientId=self.client)
         # Solve contact pairs in a sorted order, not the broadphase's discovery order (which
         # depends on where links were when last detected: a restore must not depend on it).
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=self.client)
-        self.robot = load_panda(self.client, robot_base)
+        self.robot = load_panda(self.client, robot_base, visual=self.visual)
         self.kinematics = Kinematics(robot_base)
         self.bodies: Dict[str, Body] = {}
         self.attachment: Optional[Attachment] = None
@@ -105,8 +109,9 @@ class World:
         scale = obj.scale[0]
         if any(abs(s - scale) > 1e-9 for s in obj.scale):
             raise SceneError(obj.name, "PyBullet scales URDFs uniformly; give one :scale factor")
+        flags = p.URDF_USE_INERTIA_FROM_FILE | (0 if self.visual else p.URDF_IGNORE_VISUAL_SHAPES)
         body_id = p.loadURDF(urdf, obj.position, obj.orientation, useFixedBase=obj.fixed, globalScaling=scale,
-                             flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=self.client)
+                             flags=flags, physicsClientId=self.client)
         info = p.getDynamicsInfo(body_id, -1, physicsClientId=self.client)
         body = Body(obj.name, body_id, obj.fixed, (tuple(info[3]), tuple(info[4])), urdf, scale)
         self.bodies[obj.name] = body
@@ -119,7 +124,7 @@ class World:
         if obj.friction is not None:
             changes["lateralFriction"] = obj.friction
         p.changeDynamics(body_id, -1, physicsClientId=self.client, **changes)
-        if obj.color is not None:
+        if obj.color is not None and self.visual:
             p.changeVisualShape(body_id, -1, rgbaColor=obj.color, physicsClientId=self.client)
         self.set_pose(obj.name, (obj.position, obj.orientation))
         self.reset_contact_caches()
