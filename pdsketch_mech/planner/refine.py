@@ -118,6 +118,12 @@ class Refinement:
                         # the step before led nowhere in this visit: its values failed
                         self.sampler.note_outcome(self.values[i - 1], False)
                     self.depth -= 1
+                    if i > 1 and self.visit_successes[i] == 0 and self._irrelevant(i - 1, i):
+                        # Backjump: the step before neither names nor moved what this step
+                        # acts on, so its other values would meet the same dead end.
+                        self.generators[i - 1] = None
+                        self.failures[f"{self.steps[i - 1].name}: skipped back over, step {i + 1} dead after it"] += 1
+                        self.depth -= 1
                     continue
                 # The first step's visit is over; the next slice draws fresh values. A visit
                 # that yielded nothing ends the skeleton only once the step is known dead
@@ -183,6 +189,20 @@ class Refinement:
         """A simulated step failed: count why, and tell the samplers of its values."""
         self.failures[reason] += 1
         self.sampler.note_outcome(values, False)
+
+    def _irrelevant(self, j: int, i: int) -> bool:
+        """Whether step j (before step i) is irrelevant to step i's failure: it names none of
+        the movable objects step i acts on and left them where they were (a tool put down
+        after a poke, then no grasp of the box the poke left in the tunnel: another place
+        for the tool leaves the box where it is; another poke may not). Objects step j
+        moved may still have been in step i's way; the next values of the steps before
+        move them again."""
+        world = self.world
+        acted_on = [a for a in self.steps[i].args if a in world.bodies and not world.bodies[a].fixed]
+        if not acted_on or set(acted_on) & set(self.steps[j].args):
+            return False
+        world.restore(self.snapshots[i])
+        return not any(world.moved_since(self.snapshots[j], a) for a in acted_on)
 
     def _dead_where_it_began(self, i: int) -> bool:
         """Whether step i is a step found dead (pristine.py) that earlier steps touched but
