@@ -1,5 +1,6 @@
 """ContinuousSearch (paper Alg. 1) for one skeleton: sample a step's parameters, simulate it,
-check the contact graph it produced against the skeleton, and backtrack step by step.
+check the contact graph it produced against the skeleton, and backtrack: step by step, or
+past a step that cannot have caused the dead end (backjumping, `Refinement._irrelevant`).
 
 A `Refinement` keeps its search state (snapshots, per-step sample generators), so the
 adaptive planner can give it a time slice, move to another skeleton, and come back.
