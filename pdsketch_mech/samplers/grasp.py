@@ -13,7 +13,7 @@ none in 600 samples.
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import TYPE_CHECKING, Callable, Iterator, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Callable, Iterator, List, Optional, Tuple
 
 import numpy as np
 import pybullet as p
@@ -210,10 +210,9 @@ def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
     return np.asarray(points)
 
 
-def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray,
-                     pairs: Sequence[Tuple[np.ndarray, np.ndarray]], heights: SupportHeights,
-                     rng: np.random.Generator) -> List[np.ndarray]:
-    """For each antipodal pair (p1, p2), the gripper frames (object frame, (k, 4, 4)) at ANGLES
+def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray, p1s: np.ndarray,
+                     p2s: np.ndarray, heights: SupportHeights, rng: np.random.Generator) -> List[np.ndarray]:
+    """For each antipodal pair (p1s[k], p2s[k], (n, 3) arrays), the gripper frames (object frame, (k, 4, 4)) at ANGLES
     approach angles (random offset) that pass the cheap tests, before any IK: the approach is
     not from below, the flange is within reach, no part of the gripper low down sits less
     than SUPPORT_CLEARANCE above another body's surface (the support, `heights`: points of a
@@ -222,12 +221,11 @@ def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray,
     pinch whose hand would hang into the table is dropped here, sparing ~0.1 s of failing IK.
     All pairs' frames are tested together, the cheapest test that rejects most first: the
     fingertips against the support (a plate lying flat rejects every pair there)."""
-    if not pairs:
+    if not len(p1s):
         return []
-    offsets = rng.uniform(-np.pi, np.pi, len(pairs))
-    openings = np.array([grasp_opening(float(np.linalg.norm(p2 - p1))) for p1, p2 in pairs])
-    ends = np.asarray(pairs)                                                 # (pairs, 2, 3)
-    frames = gripper_frames(ends[:, 0], ends[:, 1], offsets[:, None] + np.arange(ANGLES) * 2 * np.pi / ANGLES)
+    offsets = rng.uniform(-np.pi, np.pi, len(p1s))
+    openings = np.array([grasp_opening(float(width)) for width in np.linalg.norm(p2s - p1s, axis=1)])
+    frames = gripper_frames(p1s, p2s, offsets[:, None] + np.arange(ANGLES) * 2 * np.pi / ANGLES)
     in_world = placed @ frames
     reachable = world.within_reach_all(in_world.reshape(-1, 4, 4)).reshape(frames.shape[:2])
     keep = (in_world[..., 2, 2] <= MAX_UP) & reachable                      # (pairs, ANGLES)
@@ -242,7 +240,7 @@ def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray,
             local = np.matmul(near[None] - origin, frames[k, :, :3, :3])
             keep[k] &= ~_inside_gripper(local, openings[k]).any(axis=1)
     _drop_on_support(keep, in_world, openings, _gripper_points, heights)
-    return [frames[k][keep[k]] for k in range(len(pairs))]
+    return [frames[k][keep[k]] for k in range(len(p1s))]
 
 
 def _drop_on_support(keep: np.ndarray, in_world: np.ndarray, openings: np.ndarray,
@@ -267,6 +265,7 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
     mesh = body_mesh(world, obj)
     examined = 0
     scene, heights = None, None
+    has_pair, pool_p1s, pool_p2s = antipodal_pool(mesh)
     while examined < max_points:
         count = min(BATCH, max_points - examined)
         examined += count
@@ -276,10 +275,10 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
             placed = pose_matrix(world.pose(obj))
             bottom = float((mesh.vertices @ placed[:3, :3].T + placed[:3, 3])[:, 2].min())
             heights = SupportHeights(world, obj, bottom, _gripper_radius(MAX_OPENING))
-        has_pair, p1s, p2s = antipodal_pool(mesh)
         drawn = rng.integers(POOL_POINTS, size=count)
-        pairs = [(p1s[i], p2s[i]) for i in drawn[has_pair[drawn]]]
-        for (p1, p2), frames in zip(pairs, _approach_frames(world, mesh, placed, pairs, heights, rng)):
+        drawn = drawn[has_pair[drawn]]
+        p1s, p2s = pool_p1s[drawn], pool_p2s[drawn]
+        for p1, p2, frames in zip(p1s, p2s, _approach_frames(world, mesh, placed, p1s, p2s, heights, rng)):
             if len(frames):
                 frame = frames[int(rng.integers(len(frames)))]
                 yield Grasp(obj, matrix_pose(frame), float(np.linalg.norm(p2 - p1)),
