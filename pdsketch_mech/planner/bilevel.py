@@ -29,7 +29,7 @@ from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures
 from .refine import Refinement, Step
-from .schedule import SLICE, next_turn
+from .schedule import SLICE, next_turn, unblocked_weight
 from .serialize import plan_entries
 from .supply import SkeletonSupply
 
@@ -108,7 +108,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     failures: Counter = Counter()
 
     def weight(refinement: Refinement) -> float:
-        return sampler.promise.weight(refinement.groundings()) * supply.weight(plans[refinement.rank])
+        return (sampler.promise.weight(refinement.groundings()) * supply.weight(plans[refinement.rank])
+                * unblocked_weight(len(refinement.unblocked)))
 
     try:
         while time.perf_counter() < deadline:
@@ -175,6 +176,8 @@ def _final_counts(stats: Dict[str, object], supply: SkeletonSupply, memo: Pristi
 def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
     entry = stats["skeleton_log"][refinement.rank - 1]
     entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
+    if refinement.unblocked:
+        entry["unblocked"] = len(refinement.unblocked)
     weight = refinement.sampler.promise.weight(refinement.groundings())
     if weight < 1.0:  # learned samplers held it back (promise.py)
         entry["weight"] = round(weight, 3)

@@ -81,6 +81,7 @@ class Refinement:
         self.depth = 0
         self.deepest = 0              # most steps simulated in a row so far (statistics)
         self.root_yields = 0
+        self.unblocked: set = set()   # steps found dead where the scene began that simulated here
         self.observable = contact_mask(self.task)
 
     def run(self, deadline: float, max_work: int) -> Optional[List[Dict[str, object]]]:
@@ -152,6 +153,8 @@ class Refinement:
             if step.certified and not self._certified(step, observed):
                 self._failed(values, f"{step.mechanism}: its :certified facts do not hold after its steps")
                 continue
+            if self.memo is not None and self.memo.is_dead(step.name, step.args):
+                self.unblocked.add(i)  # done what the scene as it began did not allow
             # A value of a mechanism step is worth what it leads to: it succeeds once the
             # mechanism's next step simulates after it too (a grasp of a blocker that lets no
             # placement hold fails), or with the mechanism's last step (trust.py).

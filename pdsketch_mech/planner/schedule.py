@@ -45,6 +45,13 @@ from typing import Iterable, Optional, Tuple
 ENTRY = 4.0         # work units a new skeleton is worth before it starts: its first SLICE
 EXPONENT = 1.0
 SLICE = 4           # work units per turn
+UNBLOCK_GAIN = 8.0  # share of work gained per step done that was found dead as the scene began
+
+
+def unblocked_weight(unblocked: int) -> float:
+    """The weight of a skeleton that has simulated `unblocked` steps found dead as the scene
+    began (a grasp of the box out of reach, once a hook has pulled it closer)."""
+    return UNBLOCK_GAIN ** unblocked
 
 
 def score(rank: int, effort: int, weight: float = 1.0) -> float:
