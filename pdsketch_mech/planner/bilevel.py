@@ -29,9 +29,10 @@ from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures
 from .refine import Refinement, Step
-from .schedule import SLICE, next_turn, unblocked_weight
+from .schedule import SLICE, next_turn
 from .serialize import plan_entries
 from .supply import SkeletonSupply
+from .unblocked import UnblockedPrefixes
 
 if TYPE_CHECKING:
     from ..samplers.learned.ranked import LearnedMechanism
@@ -101,6 +102,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         return None if result.goal_reached else f"in a fresh world, {result.message}"
     memo = PristineFailures(start=start)
     supply = SkeletonSupply(task, memo, deadline, max_skeletons)
+    unblocked = UnblockedPrefixes()
     active: Dict[int, Refinement] = {}
     plans: Dict[int, List[int]] = {}
     created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
@@ -109,14 +111,14 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
 
     def weight(refinement: Refinement) -> float:
         return (sampler.promise.weight(refinement.groundings()) * supply.weight(plans[refinement.rank])
-                * unblocked_weight(len(refinement.unblocked)))
+                * unblocked.weight(refinement.steps))
 
     try:
         while time.perf_counter() < deadline:
             upcoming = supply.peek()
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
                              supply.taken + 1 if upcoming is not None else None,
-                             supply.weight(upcoming[0]) if upcoming is not None else 1.0)
+                             supply.weight(upcoming[0]) * unblocked.weight(upcoming[1]) if upcoming is not None else 1.0)
             if turn is None:
                 break
             if turn not in active:
@@ -138,6 +140,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
             t0, deaths = time.perf_counter(), memo.deaths
             values = refinement.run(deadline, SLICE)
             stats["continuous_s"] += time.perf_counter() - t0
+            unblocked.note(refinement.steps, refinement.unblocked)
             if values is not None:
                 del active[turn]
                 for other in active.values():

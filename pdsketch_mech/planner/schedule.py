@@ -32,11 +32,12 @@ measurements with ENTRY 4 / 2 / 1.5 and a first slice of 4: the 5-step two-poke 
 units (samples drawn and simulated, samplers running dry), never in seconds: the same seed
 gives the same plan whatever the machine's load.
 
-A skeleton's score is divided by its weight in (0, 1]: DETOUR_WEIGHT per detour no dead
-step explains (detours.py), times, with learned samplers, how its mechanism groundings
-compare with the best ones in the classifiers' eyes (promise.py). A skeleton of weight w gets
-about w times the share of work of its rank; the next skeleton is looked at before it is
-created, so its weight delays its creation too.
+A skeleton's score is divided by its weight: DETOUR_WEIGHT per detour no dead step explains
+(detours.py), times, with learned samplers, how its mechanism groundings compare with the
+best ones in the classifiers' eyes (promise.py), times UNBLOCK_GAIN per prefix it begins
+with that got past a step found dead as the scene began (unblocked.py). A skeleton of weight
+w gets about w times the share of work of its rank; the next skeleton is looked at before it
+is created, so its weight delays its creation too.
 """
 from __future__ import annotations
 
@@ -45,13 +46,6 @@ from typing import Iterable, Optional, Tuple
 ENTRY = 4.0         # work units a new skeleton is worth before it starts: its first SLICE
 EXPONENT = 1.0
 SLICE = 4           # work units per turn
-UNBLOCK_GAIN = 8.0  # share of work gained per step done that was found dead as the scene began
-
-
-def unblocked_weight(unblocked: int) -> float:
-    """The weight of a skeleton that has simulated `unblocked` steps found dead as the scene
-    began (a grasp of the box out of reach, once a hook has pulled it closer)."""
-    return UNBLOCK_GAIN ** unblocked
 
 
 def score(rank: int, effort: int, weight: float = 1.0) -> float:

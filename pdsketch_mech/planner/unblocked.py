@@ -1,0 +1,64 @@
+"""Skeleton prefixes that got past a dead step: evidence from the scene, shared by every
+skeleton that begins with them.
+
+A step found dead where the scene began (pristine.py: the grasp of a box beyond reach) is what
+holds every skeleton back. When one skeleton's earlier steps make it feasible (a hook pulls
+the box within reach, and the grasp simulates), its prefix up to that step has done the hard
+part, and every skeleton that begins with the same steps starts from the same scene, so can
+do it too. Each such prefix multiplies the share of work of the skeletons that begin with it
+by UNBLOCK_GAIN (schedule.py divides a skeleton's score by its weight), while their ranks
+still reflect only how long they are.
+
+The Hook-then-Place-on-Slope task shows why the evidence is the prefix's, not the
+skeleton's: the composition (hook the box, put it on the table, lay the tool on the slope as a
+blocker, put the box above it) is the 18th skeleton or later, and the 17th hooks the box and
+puts it straight on the slope, where it slides off nearly every time. Weighting only the
+skeleton that first got past the grasp gave that 17th skeleton most of the work on some
+instances; sharing it between all skeletons that begin with the hook lets the one with the
+blocker have its turn.
+"""
+from __future__ import annotations
+
+from typing import Iterable, Sequence, Set, Tuple
+
+from ..symbolic.optimistic import is_placeholder
+from .refine import Step
+
+UNBLOCK_GAIN = 8.0   # share of work gained per prefix a skeleton begins with that got past a dead step
+
+Prefix = Tuple[Tuple[str, Tuple[str, ...]], ...]   # (operator, its objects) per step
+
+
+def _label(step: Step) -> Tuple[str, Tuple[str, ...]]:
+    # Placeholders name stream outputs, which differ between skeletons for the same step.
+    return step.name, tuple(a for a in step.args if not is_placeholder(a))
+
+
+def prefix(steps: Sequence[Step], length: int) -> Prefix:
+    """The first `length` steps, as skeletons that begin alike share them."""
+    return tuple(_label(step) for step in steps[:length])
+
+
+class UnblockedPrefixes:
+    """The prefixes, over all of a plan's skeletons, that simulated a step found dead as the
+    scene began; and the weight they give a skeleton."""
+
+    def __init__(self, gain: float = UNBLOCK_GAIN):
+        self.gain = gain
+        self.prefixes: Set[Prefix] = set()
+
+    def note(self, steps: Sequence[Step], indices: Iterable[int]) -> None:
+        """Steps `indices` of the skeleton `steps` got past a dead step. Only the step's first
+        occurrence in the skeleton counts: grasping the box again once it has been put down
+        within reach is no new evidence."""
+        for i in indices:
+            if _label(steps[i]) not in prefix(steps, i):
+                self.prefixes.add(prefix(steps, i + 1))
+
+    def count(self, steps: Sequence[Step]) -> int:
+        """How many of the prefixes the skeleton `steps` begins with."""
+        return sum(len(p) <= len(steps) and prefix(steps, len(p)) == p for p in self.prefixes)
+
+    def weight(self, steps: Sequence[Step]) -> float:
+        """UNBLOCK_GAIN per prefix the skeleton begins with (1: none)."""
+        return self.gain ** self.count(steps) if self.prefixes else 1.0
