@@ -17,7 +17,7 @@ from ..samplers.types import Contact, Grasp, Placement, Trajectory
 from ..world.attachment import relative_pose, rotation_angle
 from ..world.robot import CLOSED, MAX_OPENING
 from .execution import (ExecutionError, Recorder, back_out, fingers_touching, follow, follow_dynamic,
-                        move_straight, set_fingers_dynamic)
+                        move_straight, robot_touches, set_fingers_dynamic)
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -91,7 +91,10 @@ def grasp(world: "World", obj: str, grasp_: Grasp, trajectory: Trajectory,
 
 def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory,
           recorder: Optional[Recorder] = None) -> Outcome:
-    """Carry the object above the placement, lower it, let go, back off, let it settle."""
+    """Carry the object above the placement, lower it, let go, back off, let it settle.
+    The object must then rest without the hand: one that slid after the fingers as they
+    backed off (a box let go on a slope, nothing below it) and leans on them is not placed,
+    though the contact graph, which leaves the robot out, would say it rests on the support."""
     def run() -> Optional[Outcome]:
         if world.attachment is None or world.attachment.name != obj:
             return Outcome(False, f"not holding {obj}")
@@ -101,6 +104,8 @@ def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory
         set_fingers_dynamic(world, MAX_OPENING / 2, recorder)
         move_straight(world, -approach_axis(world.tcp_pose()), BACK, "retreat", recorder)
         world.settle()
+        if robot_touches(world, obj):
+            return Outcome(False, f"{obj} leans on the hand once let go")
         return None
     return _guarded(run)
 

@@ -154,3 +154,9 @@ def fingers_touching(world: "World", obj: str) -> int:
     body = world.bodies[obj].id
     return sum(bool([c for c in p.getContactPoints(world.robot, body, link, -1, physicsClientId=world.client)
                      if c[8] < CONTACT_DISTANCE]) for link in FINGER_JOINTS)
+
+
+def robot_touches(world: "World", obj: str) -> bool:
+    """Whether any link of the robot touches `obj` (contacts of the last simulated step)."""
+    body = world.bodies[obj].id
+    return any(c[8] < CONTACT_DISTANCE for c in p.getContactPoints(world.robot, body, physicsClientId=world.client))
