@@ -36,6 +36,12 @@ def _objects(args: Sequence[str]) -> Tuple[str, ...]:
     return tuple(a for a in args if not is_placeholder(a))
 
 
+def step_key(step: Step) -> StepKey:
+    """The step as the same step in any skeleton: its operator and objects (placeholders name
+    stream outputs, which differ between skeletons)."""
+    return step.name, _objects(step.args)
+
+
 def fixed_objects(task: StripsTask) -> Set[str]:
     """Objects the initial state calls (fixed X): never moved, so never 'touched'."""
     held = [fact for i, fact in enumerate(task.facts) if task.init >> i & 1] + list(task.static_facts)

@@ -11,7 +11,7 @@ import itertools
 import time
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Optional, Sequence, Set, Tuple
 
 import numpy as np
 
@@ -81,7 +81,7 @@ class Refinement:
         self.depth = 0
         self.deepest = 0              # most steps simulated in a row so far (statistics)
         self.root_yields = 0
-        self.unblocked: set = set()   # steps found dead where the scene began that simulated here
+        self.unblocked: Set[int] = set()  # steps found dead where the scene began that simulated here
         self.observable = contact_mask(self.task)
 
     def run(self, deadline: float, max_work: int) -> Optional[List[Dict[str, object]]]:

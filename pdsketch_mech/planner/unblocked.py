@@ -19,8 +19,8 @@ blocker have its turn.
 
 Measured on Table 2 with learned samplers (bench compose, 10 instances a task, same seeds):
 Push-then-Pick-then-Hook's values simulated 455 -> 142 (geometric mean), median time 42.2 ->
-16.4 s; Hook-then-Place-on-Slope's 940 -> 290 on the nine instances that finished in the same
-run. On Table 1 it matters where the weight of a Lever instance cannot be grasped where it
+16.4 s; Hook-then-Place-on-Slope's 800 -> 290 on the nine instances that finished in the
+first run with it (hook-slope-test-6 stopped). On Table 1 it matters where the weight of a Lever instance cannot be grasped where it
 lies: on lever-test-4 the skeleton that pushes the spoon and then grasps it got the share
 and solved the plan (242 -> 65 s); elsewhere a dead step is a skeleton's last step, and the
 plan is solved when it simulates.
@@ -29,22 +29,17 @@ from __future__ import annotations
 
 from typing import Iterable, Sequence, Set, Tuple
 
-from ..symbolic.optimistic import is_placeholder
+from .pristine import StepKey, step_key
 from .refine import Step
 
 UNBLOCK_GAIN = 8.0   # share of work gained per prefix a skeleton begins with that got past a dead step
 
-Prefix = Tuple[Tuple[str, Tuple[str, ...]], ...]   # (operator, its objects) per step
-
-
-def _label(step: Step) -> Tuple[str, Tuple[str, ...]]:
-    # Placeholders name stream outputs, which differ between skeletons for the same step.
-    return step.name, tuple(a for a in step.args if not is_placeholder(a))
+Prefix = Tuple[StepKey, ...]
 
 
 def prefix(steps: Sequence[Step], length: int) -> Prefix:
     """The first `length` steps, as skeletons that begin alike share them."""
-    return tuple(_label(step) for step in steps[:length])
+    return tuple(step_key(step) for step in steps[:length])
 
 
 class UnblockedPrefixes:
@@ -60,7 +55,7 @@ class UnblockedPrefixes:
         occurrence in the skeleton counts: grasping the box again once it has been put down
         within reach is no new evidence."""
         for i in indices:
-            if _label(steps[i]) not in prefix(steps, i):
+            if step_key(steps[i]) not in prefix(steps, i):
                 self.prefixes.add(prefix(steps, i + 1))
 
     def count(self, steps: Sequence[Step]) -> int:
