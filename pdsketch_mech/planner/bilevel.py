@@ -116,9 +116,9 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     try:
         while time.perf_counter() < deadline:
             upcoming = supply.peek()
+            upcoming_weight = 1.0 if upcoming is None else supply.weight(upcoming[0]) * unblocked.weight(upcoming[1])
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
-                             supply.taken + 1 if upcoming is not None else None,
-                             supply.weight(upcoming[0]) * unblocked.weight(upcoming[1]) if upcoming is not None else 1.0)
+                             supply.taken + 1 if upcoming is not None else None, upcoming_weight)
             if turn is None:
                 break
             if turn not in active:

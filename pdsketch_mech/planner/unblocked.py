@@ -20,10 +20,10 @@ blocker have its turn.
 Measured on Table 2 with learned samplers (bench compose, 10 instances a task, same seeds):
 Push-then-Pick-then-Hook's values simulated 455 -> 142 (geometric mean), median time 42.2 ->
 16.4 s; Hook-then-Place-on-Slope's 800 -> 290 on the nine instances that finished in the
-first run with it (hook-slope-test-6 stopped). On Table 1 it matters where the weight of a Lever instance cannot be grasped where it
-lies: on lever-test-4 the skeleton that pushes the spoon and then grasps it got the share
-and solved the plan (242 -> 65 s); elsewhere a dead step is a skeleton's last step, and the
-plan is solved when it simulates.
+first run with it (hook-slope-test-6 stopped). On Table 1 it matters where the weight of a
+Lever instance cannot be grasped where it lies: on lever-test-4 the skeleton that pushes the
+spoon and then grasps it got the share and solved the plan (242 -> 65 s); elsewhere a dead
+step is a skeleton's last step, and the plan is solved when it simulates.
 """
 from __future__ import annotations
 
@@ -54,13 +54,16 @@ class UnblockedPrefixes:
         """Steps `indices` of the skeleton `steps` got past a dead step. Only the step's first
         occurrence in the skeleton counts: grasping the box again once it has been put down
         within reach is no new evidence."""
+        keys = prefix(steps, len(steps))
         for i in indices:
-            if step_key(steps[i]) not in prefix(steps, i):
-                self.prefixes.add(prefix(steps, i + 1))
+            if keys[i] not in keys[:i]:
+                self.prefixes.add(keys[:i + 1])
 
     def count(self, steps: Sequence[Step]) -> int:
         """How many of the prefixes the skeleton `steps` begins with."""
-        return sum(len(p) <= len(steps) and prefix(steps, len(p)) == p for p in self.prefixes)
+        # The planner asks about every active skeleton each turn: its keys once, then slices.
+        keys = prefix(steps, len(steps)) if self.prefixes else ()
+        return sum(keys[:len(p)] == p for p in self.prefixes)
 
     def weight(self, steps: Sequence[Step]) -> float:
         """UNBLOCK_GAIN per prefix the skeleton begins with (1: none)."""
