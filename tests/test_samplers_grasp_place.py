@@ -126,23 +126,30 @@ def test_pairs_across_non_parallel_faces_are_not_antipodal():
                          for p1, n1, p2, _ in pairs)
 
 
-def test_grasp_proposals_draw_antipodal_pairs_from_one_pool_per_shape(monkeypatch):
-    """The pairs of a shape are found once (grasp.antipodal_pool) and every proposal's points
-    come from that pool, wherever the object lies: a later proposal casts no ray through the mesh."""
+def test_grasp_proposals_draw_antipodal_pairs_from_one_pool_per_shape():
+    """Every proposal's points come from the shape's pool (grasp.antipodal_pool), wherever the
+    object lies; a point's partner is found once, the first time a proposal draws it, and is
+    the one a ray cast with all the pool's points at once finds."""
     import pdsketch_mech.samplers.grasp as grasp
     with table_world(("block", "block/0", 0.5, 0.0)) as world:
         mesh = body_mesh(world, "block")
         grasp.antipodal_pool.cache_clear()
-        calls = []
-        original = grasp.antipodal_pairs
-        monkeypatch.setattr(grasp, "antipodal_pairs", lambda *a: calls.append(a[1]) or original(*a))
         first = list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
         world.set_pose("block", ((0.45, 0.1, world.pose("block")[0][2]), world.pose("block")[1]))
         second = list(grasp.propose_grasps(world, "block", np.random.default_rng(1), 120))
-        assert calls == [grasp.POOL_POINTS] and first and second
-        has_pair, p1s, p2s = grasp.antipodal_pool(mesh)
-        pooled = {tuple(np.round(p, 9)) for p in p1s[has_pair]}
+        pool = grasp.antipodal_pool(mesh)
+        assert first and second and 0 < pool.rays <= 240  # not the whole pool
+        pooled = {tuple(np.round(p, 9)) for p in pool.p1[pool.has_pair]}
         assert all(tuple(np.round(g.points[0], 9)) in pooled for g in first + second)
+        rays = pool.rays
+        drawn = np.flatnonzero(pool.known)
+        pool.pairs(drawn)
+        assert pool.rays == rays  # known points cast no ray again
+        eager = list(grasp.antipodal_pairs(mesh, grasp.POOL_POINTS, np.random.default_rng(0)))
+        p1s, p2s = pool.pairs(np.arange(grasp.POOL_POINTS))
+        expected = [pair for pair in eager if pair is not None]
+        assert len(p1s) == len(expected) > 0
+        assert np.array_equal(p1s, [pair[0] for pair in expected]) and np.array_equal(p2s, [pair[2] for pair in expected])
 
 
 def test_same_seed_gives_the_same_grasps():

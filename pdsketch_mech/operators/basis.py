@@ -14,8 +14,8 @@ import numpy as np
 from ..samplers.grasp import grasp_opening
 from ..samplers.trajectory import approach_axis
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
-from ..world.attachment import relative_pose, rotation_angle
-from ..world.robot import CLOSED, MAX_OPENING
+from ..world.attachment import relative_pose
+from ..world.robot import CLOSED, MAX_OPENING, rotation_angle
 from .execution import (ExecutionError, Recorder, back_out, fingers_touching, follow, follow_dynamic,
                         move_straight, robot_touches, set_fingers_dynamic)
 

@@ -54,34 +54,60 @@ def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
     """For `count` sampled surface points, (p1, n1, p2, n2) if the point has an antipodal
     partner within the gripper's range, else None (one item per sample, for budgeting)."""
     p1, n1 = sample_surface(mesh, count, rng)
-    tri, ray, hits = mesh.ray.intersects_id(p1 - INSIDE * n1, -n1, multiple_hits=False, return_locations=True)
-    found = {int(r): (int(t), h) for t, r, h in zip(tri, ray, hits)}
+    ok, p2, n2 = _partners(mesh, p1, n1)
     for i in range(count):
-        if i not in found:
-            yield None
-            continue
-        face, p2 = found[i]
-        n2 = mesh.face_normals[face]
-        width = float(np.linalg.norm(p2 - p1[i]))
-        ok = float(np.dot(n1[i], n2)) < -ANTIPODAL_COS and MIN_WIDTH <= width <= MAX_WIDTH
-        yield (p1[i], n1[i], p2, n2) if ok else None
+        yield (p1[i], n1[i], p2[i], n2[i]) if ok[i] else None
+
+
+def _partners(mesh: trimesh.Trimesh, p1: np.ndarray, n1: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For surface points `p1` (n, 3) with outward normals `n1`: whether each has an antipodal
+    partner in the gripper's range (n,), the partner p2 and its normal n2 (n, 3; zeros where
+    none). A ray from just inside p1 along -n1: each ray's answer is its own, whichever
+    others are cast with it."""
+    ok, p2, n2 = np.zeros(len(p1), dtype=bool), np.zeros((len(p1), 3)), np.zeros((len(p1), 3))
+    tri, ray, hits = mesh.ray.intersects_id(p1 - INSIDE * n1, -n1, multiple_hits=False, return_locations=True)
+    for face, i, hit in zip(tri, ray, hits):
+        normal = mesh.face_normals[face]
+        width = float(np.linalg.norm(hit - p1[i]))
+        if float(np.dot(n1[i], normal)) < -ANTIPODAL_COS and MIN_WIDTH <= width <= MAX_WIDTH:
+            ok[i], p2[i], n2[i] = True, hit, normal
+    return ok, p2, n2
 
 
 POOL_POINTS = 4096      # surface points of an object whose antipodal partners are found once
 
 
+class AntipodalPool:
+    """POOL_POINTS surface points of a shape (object frame), drawn once per shape (seed 0),
+    and their antipodal partners. Pairs do not depend on where the object is, and finding
+    them (a ray through the mesh per point) was a tenth of a Lever plan; proposals draw
+    points from this pool instead. A point's partner is found the first time a proposal
+    draws it: a plan that needs one grasp of a box draws a few hundred of the points, and
+    casting all 4096 rays up front cost ~0.15 s per shape, an eighth of such a plan."""
+
+    def __init__(self, mesh: trimesh.Trimesh):
+        self.mesh = mesh
+        self.p1, self.n1 = sample_surface(mesh, POOL_POINTS, np.random.default_rng(0))
+        self.known = np.zeros(POOL_POINTS, dtype=bool)
+        self.has_pair = np.zeros(POOL_POINTS, dtype=bool)
+        self.p2 = np.zeros((POOL_POINTS, 3))
+        self.rays = 0   # rays cast so far (tests)
+
+    def pairs(self, drawn: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """(p1s, p2s) of the points `drawn` (indices into the pool) that have a partner, in order."""
+        new = np.unique(drawn[~self.known[drawn]])
+        if len(new):
+            ok, p2, _ = _partners(self.mesh, self.p1[new], self.n1[new])
+            self.has_pair[new], self.p2[new], self.known[new] = ok, p2, True
+            self.rays += len(new)
+        drawn = drawn[self.has_pair[drawn]]
+        return self.p1[drawn], self.p2[drawn]
+
+
 @lru_cache(maxsize=64)
-def antipodal_pool(mesh: trimesh.Trimesh) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(has_pair (POOL_POINTS,), p1, p2 (POOL_POINTS, 3)): POOL_POINTS surface points drawn
-    once per shape (seed 0) and their antipodal partners, in the object's frame. Pairs do
-    not depend on where the object is, and finding them (a ray through the mesh per point)
-    was a tenth of a Lever plan; proposals draw points from this pool instead."""
-    has_pair = np.zeros(POOL_POINTS, dtype=bool)
-    p1s, p2s = np.zeros((POOL_POINTS, 3)), np.zeros((POOL_POINTS, 3))
-    for i, pair in enumerate(antipodal_pairs(mesh, POOL_POINTS, np.random.default_rng(0))):
-        if pair is not None:
-            has_pair[i], p1s[i], p2s[i] = True, pair[0], pair[2]
-    return has_pair, p1s, p2s
+def antipodal_pool(mesh: trimesh.Trimesh) -> AntipodalPool:
+    """The shape's pool (shared by every proposal of the process)."""
+    return AntipodalPool(mesh)
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -265,7 +291,7 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
     mesh = body_mesh(world, obj)
     examined = 0
     scene, heights = None, None
-    has_pair, pool_p1s, pool_p2s = antipodal_pool(mesh)
+    pool = antipodal_pool(mesh)
     while examined < max_points:
         count = min(BATCH, max_points - examined)
         examined += count
@@ -275,9 +301,7 @@ def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_point
             placed = pose_matrix(world.pose(obj))
             bottom = float((mesh.vertices @ placed[:3, :3].T + placed[:3, 3])[:, 2].min())
             heights = SupportHeights(world, obj, bottom, _gripper_radius(MAX_OPENING))
-        drawn = rng.integers(POOL_POINTS, size=count)
-        drawn = drawn[has_pair[drawn]]
-        p1s, p2s = pool_p1s[drawn], pool_p2s[drawn]
+        p1s, p2s = pool.pairs(rng.integers(POOL_POINTS, size=count))
         for p1, p2, frames in zip(p1s, p2s, _approach_frames(world, mesh, placed, p1s, p2s, heights, rng)):
             if len(frames):
                 frame = frames[int(rng.integers(len(frames)))]

@@ -11,9 +11,8 @@ the sampled grasp.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence, Tuple
+from typing import Tuple
 
-import numpy as np
 import pybullet as p
 
 from .robot import HAND_LINK, Pose
@@ -40,11 +39,6 @@ def compose(a: Pose, b: Pose) -> Pose:
 def invert(a: Pose) -> Pose:
     pos, orn = p.invertTransform(a[0], a[1])
     return tuple(pos), tuple(orn)
-
-
-def rotation_angle(a: Sequence[float], b: Sequence[float]) -> float:
-    """The angle (radians) of the rotation between unit quaternions `a` and `b`."""
-    return 2 * float(np.arccos(min(1.0, abs(float(np.dot(a, b))))))
 
 
 def hand_inertial(client: int, robot: int) -> Pose:

@@ -18,10 +18,9 @@ import numpy as np
 import pybullet as p
 
 from ..lang.scene import SceneObject
-from .attachment import (Attachment, compose, create_attachment, hand_inertial, held_pose, relative_pose,
-                         release, rotation_angle)
+from .attachment import Attachment, compose, create_attachment, hand_inertial, held_pose, relative_pose, release
 from .robot import (ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, REACH, SHOULDER, TCP_LINK, WRIST,
-                    Kinematics, Pose, disable_touching_self_pairs, load_panda)
+                    Kinematics, Pose, disable_touching_self_pairs, load_panda, rotation_angle)
 from .snapshot import (Collider, Snapshot, collider_groups, reset_contact_caches, restore_snapshot, set_check_groups,
                        take_snapshot)
 
@@ -271,9 +270,12 @@ class World:
         body = self.bodies[self.attachment.name]
         self.set_pose(self.attachment.name, held_pose((state[4], state[5]), self.attachment))
         com = p.getBasePositionAndOrientation(body.id, physicsClientId=self.client)[0]
-        linear, angular = np.array(state[6]), np.array(state[7])
-        linear = linear + np.cross(angular, np.subtract(com, state[0]))  # state[0]: the hand's COM
-        p.resetBaseVelocity(body.id, linear.tolist(), angular.tolist(), physicsClientId=self.client)
+        # The velocity at the object's COM: v + w x r, r from the hand's COM (state[0]). Plain
+        # floats: this runs after every physics step while something is held (np.cross: ~30 us).
+        (vx, vy, vz), (wx, wy, wz) = state[6], state[7]
+        rx, ry, rz = com[0] - state[0][0], com[1] - state[0][1], com[2] - state[0][2]
+        linear = [vx + (wy * rz - wz * ry), vy + (wz * rx - wx * rz), vz + (wx * ry - wy * rx)]
+        p.resetBaseVelocity(body.id, linear, list(state[7]), physicsClientId=self.client)
 
     def settle(self, max_steps: int = 480, linear_tol: float = 2e-3, angular_tol: float = 2e-2,
                quiet_steps: int = 10) -> int:
