@@ -161,7 +161,10 @@ def grasp_configurations(world: "World", grasp: Grasp, rng: np.random.Generator,
         if checker is not None and checker.collides(q):
             return None
         pre = offset_along_z(target, -PRE_GRASP)
-        q_pre = kin.ik(pre[0], pre[1], rng, seed=q)  # seeded: the retreat is a short straight line
+        # Seeded: the retreat is a short straight line. A pre-grasp the seeded solve misses lies
+        # at the edge of reach, and as few restarts as for the grasp suffice: with IK's default
+        # 30 these failures took a fifth of a CoM plan (5 of 17 grasps verified, 28 ms each).
+        q_pre = kin.ik(pre[0], pre[1], rng, seed=q, restarts=IK_RESTARTS)
         if q_pre is None or (checker is not None and checker.collides(q_pre)):
             return None
     return q_pre, q
