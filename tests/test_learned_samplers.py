@@ -490,3 +490,33 @@ def test_planning_with_learned_samplers_does_not_import_torch():
             "print('torch' in sys.modules)\n")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_scoring_time_leaves_out_embedding_a_new_shape(monkeypatch):
+    """`score_ms` times a batch (encoding proposals, the forward pass); embedding a shape the
+    plan scores for the first time is timed apart (`shape_ms`), once per shape."""
+    import time
+    from pdsketch_mech.envs.generate import sample
+    from pdsketch_mech.envs.tasks import TASKS
+    from pdsketch_mech.lang.parser import parse_text
+    from pdsketch_mech.planner.execute import settle_start
+    from pdsketch_mech.samplers.grasp import propose_grasps
+    from pdsketch_mech.samplers.learned.forward import NumpyClassifier
+    from pdsketch_mech.samplers.learned.ranked import load_learned
+    from pdsketch_mech.world.build import build_world
+    loaded = load_domain([os.path.join(ROOT, "domains", "mechanisms", "com.pddl")])
+    mechanism = next(m for m in loaded.domain.mechanisms if m.name == "com")
+    learned = load_learned([mechanism])["com"]
+    embed = NumpyClassifier.shape_vector
+    monkeypatch.setattr(NumpyClassifier, "shape_vector", lambda self, cloud: time.sleep(0.2) or embed(self, cloud))
+    problem = parse_text(sample(TASKS["com"], "test", 1).problem_text(), file="<com>")
+    with build_world(problem, visual=False) as world:
+        settle_start(world)
+        request = SampleRequest("s", (), (), StepContext("grasp", (), "com", ("flat", "table", "pedestal")))
+        grasps = list(itertools.islice(propose_grasps(world, "flat", np.random.default_rng(0), 200), 8))
+        assert grasps
+        for _ in range(2):
+            learned.score(world, request, "?g", grasps)
+    assert len(learned.shape_seconds) == len(learned.objects(world, request))   # once per shape
+    assert all(t >= 0.2 for t in learned.shape_seconds)
+    assert len(learned.score_seconds) == 2 and max(learned.score_seconds) < 0.2

@@ -138,7 +138,7 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
     scores = [t.score_ms for t in trials if t.method == "macro+sampler" and t.score_ms is not None]
     if scores:
         lines.append(f"scoring a batch of proposals: median {statistics.median(scores):.1f} ms "
-                     "(the first batch of a plan includes loading the shapes)")
+                     "(embedding a shape the plan had not scored before is timed apart)")
     for t in trials:
         if t.status != "solved":
             lines.append(f"{t.instance} (seed {t.seed}) {t.method}: {t.status} ({t.reason})")

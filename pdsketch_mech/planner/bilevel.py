@@ -89,6 +89,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                                 # read when the statistics are finished:
                                 "proposals": sampler.proposals, "simulated": sampler.simulated,
                                 "score_ms": [m.score_seconds for m in (learned or {}).values()],
+                                "shape_ms": [m.shape_seconds for m in (learned or {}).values()],
                                 "trust": sampler.trust}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
@@ -202,7 +203,10 @@ def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, obje
     out["proposals"] = stats["proposals"]()
     out["simulated"] = dict(sorted(stats["simulated"].items()))
     scores = [t for times in stats["score_ms"] for t in times]
-    out["score_ms"] = {"batches": len(scores), "median": round(1000 * float(np.median(scores)), 2) if scores else None}
+    out["score_ms"] = {"batches": len(scores), "median": round(1000 * float(np.median(scores)), 2) if scores else None,
+                       "max": round(1000 * max(scores), 2) if scores else None}
+    shapes = [t for times in stats["shape_ms"] for t in times]
+    out["shape_ms"] = {"encoded": len(shapes), "total": round(1000 * sum(shapes), 2)}
     out["trust"] = stats["trust"]()
     out["symbolic_s"] = round(stats["symbolic_s"], 3)
     out["continuous_s"] = round(stats["continuous_s"], 3)

@@ -61,7 +61,11 @@ class LearnedMechanism:
 
     def __init__(self, model: NumpyClassifiers, meta: Dict[str, Any]):
         self.model, self.meta = model, meta
-        self.score_seconds: List[float] = []   # each batch's forward pass (stats)
+        # Stats: each batch's scoring (encoding the proposals and the forward pass), and apart
+        # from it, embedding a shape the plan had not scored before (its point cloud and the
+        # PointNet++ encoder: ~5-20 ms a shape, once per plan).
+        self.score_seconds: List[float] = []
+        self.shape_seconds: List[float] = []
         self._shapes: Dict[tuple, np.ndarray] = {}  # (variable, urdf) -> the shape's embedding
         # Bodies nearest the mechanism's objects that self-play recorded with them (context.py).
         self.context = context_count(meta)
@@ -79,6 +83,7 @@ class LearnedMechanism:
         the median of the others where a proposal has no encoding). The context is the step's:
         the mechanism's objects where they are now and the values its earlier steps drew."""
         started = time.perf_counter()
+        encoding = 0.0  # seconds spent embedding shapes seen for the first time (timed apart)
         classifier = self.model.classifier(variable)
         numbers = [encode_proposal(world, p) for p in proposals]
         known = [i for i, v in enumerate(numbers) if v is not None]
@@ -86,6 +91,7 @@ class LearnedMechanism:
         if known:
             objects = self.objects(world, request)
             bodies = [world.bodies[o] for o in objects]
+            shapes, encoding = self._shape_vectors(world, request, variable)
             by_variable = {request.step.role(k): v for k, v in request.parents.items()}
             parents = [by_variable.get(variable) for variable, _ in classifier.spec.parents]
             out[known] = classifier.log_score(
@@ -95,9 +101,9 @@ class LearnedMechanism:
                 np.array([float(value is not None) for value in parents]),
                 np.array([size_features(b.urdf, b.scale) for b in bodies]),
                 np.array([pose_array(world.pose(o)) for o in objects]),
-                self._shape_vectors(world, request, variable))
+                shapes)
             out[[i for i in range(len(proposals)) if numbers[i] is None]] = np.median(out[known])
-        self.score_seconds.append(time.perf_counter() - started)
+        self.score_seconds.append(time.perf_counter() - started - encoding)
         return out
 
     def objects(self, world: "World", request: SampleRequest) -> Tuple[str, ...]:
@@ -109,16 +115,20 @@ class LearnedMechanism:
             self._context[grounding] = grounding + tuple(context_objects(world, grounding, self.context))
         return self._context[grounding]
 
-    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> np.ndarray:
-        """The mechanism objects' shape embeddings, computed once per shape."""
-        rows = []
+    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> Tuple[np.ndarray, float]:
+        """The mechanism objects' shape embeddings, each shape's computed once (its time
+        appended to `shape_seconds`), and the seconds this call spent computing new ones."""
+        rows, spent = [], 0.0
         for name in self.objects(world, request):
             urdf = world.bodies[name].urdf
             key = (variable, urdf)
             if key not in self._shapes:
+                started = time.perf_counter()
                 self._shapes[key] = self.model.classifier(variable).shape_vector(unit_cloud(urdf))
+                self.shape_seconds.append(time.perf_counter() - started)
+                spent += self.shape_seconds[-1]
             rows.append(self._shapes[key])
-        return np.stack(rows)
+        return np.stack(rows), spent
 
 
 def walk(scores: np.ndarray, rng: np.random.Generator, explore: Callable[[], float]) -> Iterator[Tuple[int, bool]]:
