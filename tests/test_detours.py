@@ -12,8 +12,8 @@ from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import prepare_task
 from pdsketch_mech.planner.detours import DETOUR_WEIGHT, detour_weight, unexplained_detours
 from pdsketch_mech.planner.pristine import DEAD_AFTER, PristineFailures, touch_masks
-from pdsketch_mech.planner.schedule import next_turn
-from pdsketch_mech.planner.supply import SkeletonSupply
+from pdsketch_mech.planner.schedule import heaviest, next_turn
+from pdsketch_mech.planner.supply import WINDOW, SkeletonSupply
 
 from conftest import ROOT
 
@@ -85,3 +85,25 @@ def test_the_supply_defers_skeletons_that_repeat_a_dead_step_and_hands_them_out_
     assert supply.deferrals >= 1 and supply.taken == 12
     later = supply.take()                 # the cap is reached: deferred ones come now
     assert later is not None and supply.memo.blocks(later[2])
+
+
+def test_a_light_skeleton_does_not_hold_back_the_ones_behind_it(hook_slope):
+    """The planner creates the upcoming skeleton it weighs most (the first on ties); those
+    the search found before it wait in the window and come later, in their order."""
+    assert heaviest([DETOUR_WEIGHT ** 3, 1.0, 1.0]) == 1 and heaviest([0.5, 0.5]) == 0
+    task, _, _ = hook_slope
+    supply = SkeletonSupply(task, PristineFailures(), deadline=time.perf_counter() + 60, max_skeletons=50)
+    window = supply.upcoming()
+    assert len(window) == WINDOW and supply.peek() is window[0]
+    labels = [tuple(t[0]) for t in window]
+    assert tuple(supply.take(3)[0]) == labels[3]            # the fourth jumps the queue
+    assert [tuple(t[0]) for t in supply.upcoming()[:3]] == labels[:3] and supply.taken == 1
+    assert [tuple(supply.take()[0]) for _ in range(3)] == labels[:3]
+
+
+def test_the_window_never_hands_out_more_than_the_cap_from_the_search(hook_slope):
+    task, _, _ = hook_slope
+    supply = SkeletonSupply(task, PristineFailures(), deadline=time.perf_counter() + 60, max_skeletons=3)
+    assert len(supply.upcoming()) == 3
+    handed = [supply.take(2), supply.take(1), supply.take()]
+    assert all(handed) and supply.take() is None and supply.taken == 3

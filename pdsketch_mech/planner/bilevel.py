@@ -29,7 +29,7 @@ from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures
 from .refine import Refinement, Step
-from .schedule import SLICE, next_turn
+from .schedule import SLICE, heaviest, next_turn
 from .serialize import plan_entries
 from .supply import SkeletonSupply
 from .unblocked import UnblockedPrefixes
@@ -116,16 +116,19 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
 
     try:
         while time.perf_counter() < deadline:
-            upcoming = supply.peek()
-            upcoming_weight = 1.0 if upcoming is None else supply.weight(upcoming[0]) * unblocked.weight(upcoming[1])
+            window = supply.upcoming()
+            weights = [supply.weight(plan) * unblocked.weight(steps) for plan, steps, _ in window]
+            chosen = heaviest(weights) if window else 0
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
-                             supply.taken + 1 if upcoming is not None else None, upcoming_weight)
+                             supply.taken + 1 if window else None, weights[chosen] if window else 1.0)
             if turn is None:
                 break
             if turn not in active:
-                plan, steps, keys = supply.take()
+                plan, steps, keys = supply.take(chosen)
                 label = " ".join(task.operators[o].label for o in plan)
                 created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
+                if chosen:
+                    created[-1]["passed"] = chosen   # skeletons the search found first, left waiting
                 detours = supply.detours(plan)
                 if detours:
                     created[-1]["detours"] = detours

@@ -36,12 +36,13 @@ A skeleton's score is divided by its weight: DETOUR_WEIGHT per detour no dead st
 (detours.py), times, with learned samplers, how its mechanism groundings compare with the
 best ones in the classifiers' eyes (promise.py), times UNBLOCK_GAIN per prefix it begins
 with that got past a step found dead as the scene began (unblocked.py). A skeleton of weight
-w gets about w times the share of work of its rank; the next skeleton is looked at before it
-is created, so its weight delays its creation too.
+w gets about w times the share of work of its rank. The next few skeletons are looked at
+before one is created (supply.py), and the one weighed most comes first: its weight delays
+its creation too, but a light one does not hold back those behind it.
 """
 from __future__ import annotations
 
-from typing import Iterable, Optional, Tuple
+from typing import Iterable, Optional, Sequence, Tuple
 
 ENTRY = 4.0         # work units a new skeleton is worth before it starts: its first SLICE
 EXPONENT = 1.0
@@ -64,3 +65,9 @@ def next_turn(active: Iterable[Tuple[int, ...]], next_rank: Optional[int], next_
     if next_rank is not None and (best is None or score(next_rank, 0, next_weight) <= best[0]):
         return next_rank
     return None if best is None else best[1]
+
+
+def heaviest(weights: Sequence[float]) -> int:
+    """The index of the upcoming skeleton to create next: the largest weight, the first
+    (the search's order) on ties."""
+    return max(range(len(weights)), key=lambda i: (weights[i], -i))

@@ -2,9 +2,13 @@
 
 Skeletons come from the FF-guided symbolic search, in its order. One that repeats a pristine
 step found dead (pristine.py) is deferred: kept aside and handed out only once the search
-has no more (or the planner's cap is reached). The next skeleton is looked at before the
-planner decides to create it, so that its weight (detours.py) delays its creation as it
-lowers its share of work afterwards.
+has no more (or the planner's cap is reached). The next WINDOW skeletons are looked at before
+the planner creates one, and it creates the one it weighs most (detours.py, unblocked.py),
+the first of them on ties: a skeleton's weight delays its own creation as it lowers its share
+of work afterwards, but not the creation of the skeletons behind it. With only the next one
+looked at, one with three unexplained detours (weight 1/64) held back every later skeleton:
+on lever-test-0 the 11th skeleton came at 65 s and the one that solved it, the 22nd (push
+the plate with the spoon: the spoon is too light to tip it), at 88 s of 107.
 """
 from __future__ import annotations
 
@@ -19,6 +23,8 @@ from .refine import Step, skeleton_steps
 
 # A skeleton as the planner takes it: operator ids, its steps, and their pristine keys.
 Taken = Tuple[List[int], List[Step], List[Optional[StepKey]]]
+
+WINDOW = 8   # skeletons looked at ahead of creating one
 
 
 def skeleton_order(task: StripsTask, deadline: Optional[float] = None,
@@ -45,28 +51,42 @@ class SkeletonSupply:
         self._fixed = fixed_objects(task)
         self._more = True                       # the search may have more
         self._deferred: List[Taken] = []        # in the order they were found
-        self._upcoming: Optional[Taken] = None  # the next one, looked at
+        self._window: List[Taken] = []          # the next ones, looked at (upcoming)
         self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}  # plan -> (flagged, detours)
         self.taken = 0                          # skeletons handed out
         self.deferrals = 0                      # skeletons set aside (statistics)
         self.search_s = 0.0                     # time in the symbolic search
 
-    def peek(self) -> Optional[Taken]:
-        """The skeleton `take` would hand out next, None if there is none."""
+    def upcoming(self) -> List[Taken]:
+        """The skeletons `take` chooses from: the next WINDOW from the search (fewer near the
+        cap) that repeat no dead pristine step, in its order; once the search has no more
+        (or the cap is reached), the first deferred one."""
         t0 = time.perf_counter()
-        if self._upcoming is None:
-            self._upcoming = self._next()
-        while self._upcoming is not None and self._searching() and self.memo.blocks(self._upcoming[2]):
-            self.defer(self._upcoming)          # a step of it died since it was looked at
-            self._upcoming = self._next()
+        if self._searching():  # a step of one may have died since it was looked at
+            for taken in [t for t in self._window if self.memo.blocks(t[2])]:
+                self._window.remove(taken)
+                self.defer(taken)
+        del self._window[max(0, self.max_skeletons - self.taken):]   # the cap counts what is handed out
+        while len(self._window) < min(WINDOW, self.max_skeletons - self.taken):
+            taken = self._next()
+            if taken is None:
+                break
+            self._window.append(taken)
         self.search_s += time.perf_counter() - t0
-        return self._upcoming
+        return list(self._window) if self._window else self._deferred[:1]
 
-    def take(self) -> Optional[Taken]:
-        taken = self.peek()
-        self._upcoming = None
-        self.taken += taken is not None
-        return taken
+    def peek(self) -> Optional[Taken]:
+        """The first of the upcoming skeletons, None if there is none."""
+        window = self.upcoming()
+        return window[0] if window else None
+
+    def take(self, index: int = 0) -> Optional[Taken]:
+        """Hand out the `index`-th upcoming skeleton (None if there is none)."""
+        window = self.upcoming()
+        if index >= len(window):
+            return None
+        self.taken += 1
+        return self._window.pop(index) if self._window else self._deferred.pop(0)
 
     def defer(self, taken: Taken) -> None:
         """Set a skeleton aside until the search has no more (an active one whose pristine
@@ -90,8 +110,8 @@ class SkeletonSupply:
         return self._more and self.taken < self.max_skeletons and time.perf_counter() < self.deadline
 
     def _next(self) -> Optional[Taken]:
-        """The next skeleton from the search that repeats no dead pristine step; a deferred
-        one once the search has no more (or the cap is reached)."""
+        """The next skeleton from the search that repeats no dead pristine step (None when
+        the search has no more or the cap is reached)."""
         while self._searching():
             plan = next(self._search, None)
             if plan is None:
@@ -102,4 +122,4 @@ class SkeletonSupply:
             if not self.memo.blocks(keys):
                 return plan, steps, keys
             self.defer((plan, steps, keys))
-        return self._deferred.pop(0) if self._deferred else None
+        return None
