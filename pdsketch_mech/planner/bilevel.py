@@ -117,10 +117,11 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     try:
         while time.perf_counter() < deadline:
             window = supply.upcoming()
-            weights = [supply.weight(plan) * unblocked.weight(steps) for plan, steps, _ in window]
-            chosen = heaviest(weights) if window else 0
+            # The first upcoming skeleton with the fewest unexplained detours comes next (supply.py).
+            chosen = heaviest([supply.weight(plan) for plan, _, _ in window]) if window else 0
+            upcoming_weight = supply.weight(window[chosen][0]) * unblocked.weight(window[chosen][1]) if window else 1.0
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
-                             supply.taken + 1 if window else None, weights[chosen] if window else 1.0)
+                             supply.taken + 1 if window else None, upcoming_weight)
             if turn is None:
                 break
             if turn not in active:

@@ -37,8 +37,8 @@ A skeleton's score is divided by its weight: DETOUR_WEIGHT per detour no dead st
 best ones in the classifiers' eyes (promise.py), times UNBLOCK_GAIN per prefix it begins
 with that got past a step found dead as the scene began (unblocked.py). A skeleton of weight
 w gets about w times the share of work of its rank. The next few skeletons are looked at
-before one is created (supply.py), and the one weighed most comes first: its weight delays
-its creation too, but a light one does not hold back those behind it.
+before one is created (supply.py), and the first with the fewest detours comes next: its
+weight delays its creation too, but one with detours does not hold back those behind it.
 """
 from __future__ import annotations
 
@@ -68,6 +68,6 @@ def next_turn(active: Iterable[Tuple[int, ...]], next_rank: Optional[int], next_
 
 
 def heaviest(weights: Sequence[float]) -> int:
-    """The index of the upcoming skeleton to create next: the largest weight, the first
-    (the search's order) on ties."""
+    """The index of the largest of `weights` (the upcoming skeletons' detour weights), the
+    first (the search's order) on ties."""
     return max(range(len(weights)), key=lambda i: (weights[i], -i))

@@ -3,12 +3,15 @@
 Skeletons come from the FF-guided symbolic search, in its order. One that repeats a pristine
 step found dead (pristine.py) is deferred: kept aside and handed out only once the search
 has no more (or the planner's cap is reached). The next WINDOW skeletons are looked at before
-the planner creates one, and it creates the one it weighs most (detours.py, unblocked.py),
-the first of them on ties: a skeleton's weight delays its own creation as it lowers its share
-of work afterwards, but not the creation of the skeletons behind it. With only the next one
-looked at, one with three unexplained detours (weight 1/64) held back every later skeleton:
-on lever-test-0 the 11th skeleton came at 65 s and the one that solved it, the 22nd (push
-the plate with the spoon: the spoon is too light to tip it), at 88 s of 107.
+the planner creates one, and it creates the first of those with the fewest unexplained
+detours (detours.py): a skeleton's detours delay its own creation as they lower its share of
+work afterwards, but not the creation of the skeletons behind it. With only the next one
+looked at, one with three detours (weight 1/64) held back every later skeleton: on
+lever-test-0 the 11th skeleton came at 65 s and the one that solved it, the 22nd (push the
+plate with the spoon: the spoon is too light to tip it), at 88 s of 107. The choice reads
+the detours only: skeletons that begin with a prefix past a dead step (unblocked.py, 8x the
+weight) jumping the queue too took the work on lever-test-4 (15 of them came at once, 66 ->
+340 s).
 """
 from __future__ import annotations
 
