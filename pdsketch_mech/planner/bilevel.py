@@ -118,8 +118,9 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         while time.perf_counter() < deadline:
             window = supply.upcoming()
             # The first upcoming skeleton with the fewest unexplained detours comes next (supply.py).
-            chosen = heaviest([supply.weight(plan) for plan, _, _ in window]) if window else 0
-            upcoming_weight = supply.weight(window[chosen][0]) * unblocked.weight(window[chosen][1]) if window else 1.0
+            detour_weights = [supply.weight(plan) for plan, _, _ in window]
+            chosen = heaviest(detour_weights) if window else 0
+            upcoming_weight = detour_weights[chosen] * unblocked.weight(window[chosen][1]) if window else 1.0
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
                              supply.taken + 1 if window else None, upcoming_weight)
             if turn is None:

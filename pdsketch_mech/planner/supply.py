@@ -66,9 +66,10 @@ class SkeletonSupply:
         (or the cap is reached), the first deferred one."""
         t0 = time.perf_counter()
         if self._searching():  # a step of one may have died since it was looked at
-            for taken in [t for t in self._window if self.memo.blocks(t[2])]:
-                self._window.remove(taken)
+            blocked = [self.memo.blocks(t[2]) for t in self._window]
+            for taken in (t for t, dead in zip(self._window, blocked) if dead):
                 self.defer(taken)
+            self._window = [t for t, dead in zip(self._window, blocked) if not dead]
         del self._window[max(0, self.max_skeletons - self.taken):]   # the cap counts what is handed out
         while len(self._window) < min(WINDOW, self.max_skeletons - self.taken):
             taken = self._next()

@@ -82,8 +82,7 @@ class LearnedMechanism:
         """The classifier's score for each proposal, higher first (`ParamClassifier.log_score`;
         the median of the others where a proposal has no encoding). The context is the step's:
         the mechanism's objects where they are now and the values its earlier steps drew."""
-        started = time.perf_counter()
-        encoding = 0.0  # seconds spent embedding shapes seen for the first time (timed apart)
+        started, embedded = time.perf_counter(), len(self.shape_seconds)
         classifier = self.model.classifier(variable)
         numbers = [encode_proposal(world, p) for p in proposals]
         known = [i for i, v in enumerate(numbers) if v is not None]
@@ -91,7 +90,8 @@ class LearnedMechanism:
         if known:
             objects = self.objects(world, request)
             bodies = [world.bodies[o] for o in objects]
-            shapes, encoding = self._shape_vectors(world, request, variable)
+            # First: a new shape's embedding loads its solid, which size_features reads too.
+            shapes = self._shape_vectors(world, request, variable)
             by_variable = {request.step.role(k): v for k, v in request.parents.items()}
             parents = [by_variable.get(variable) for variable, _ in classifier.spec.parents]
             out[known] = classifier.log_score(
@@ -103,7 +103,8 @@ class LearnedMechanism:
                 np.array([pose_array(world.pose(o)) for o in objects]),
                 shapes)
             out[[i for i in range(len(proposals)) if numbers[i] is None]] = np.median(out[known])
-        self.score_seconds.append(time.perf_counter() - started - encoding)
+        # Shapes embedded for the first time during this call are timed apart (shape_seconds).
+        self.score_seconds.append(time.perf_counter() - started - sum(self.shape_seconds[embedded:]))
         return out
 
     def objects(self, world: "World", request: SampleRequest) -> Tuple[str, ...]:
@@ -115,10 +116,10 @@ class LearnedMechanism:
             self._context[grounding] = grounding + tuple(context_objects(world, grounding, self.context))
         return self._context[grounding]
 
-    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> Tuple[np.ndarray, float]:
+    def _shape_vectors(self, world: "World", request: SampleRequest, variable: str) -> np.ndarray:
         """The mechanism objects' shape embeddings, each shape's computed once (its time
-        appended to `shape_seconds`), and the seconds this call spent computing new ones."""
-        rows, spent = [], 0.0
+        appended to `shape_seconds`)."""
+        rows = []
         for name in self.objects(world, request):
             urdf = world.bodies[name].urdf
             key = (variable, urdf)
@@ -126,9 +127,8 @@ class LearnedMechanism:
                 started = time.perf_counter()
                 self._shapes[key] = self.model.classifier(variable).shape_vector(unit_cloud(urdf))
                 self.shape_seconds.append(time.perf_counter() - started)
-                spent += self.shape_seconds[-1]
             rows.append(self._shapes[key])
-        return np.stack(rows), spent
+        return np.stack(rows)
 
 
 def walk(scores: np.ndarray, rng: np.random.Generator, explore: Callable[[], float]) -> Iterator[Tuple[int, bool]]:
