@@ -6,6 +6,7 @@ import trimesh
 from scipy.spatial import Delaunay
 from scipy.spatial.transform import Rotation
 
+from pdsketch_mech.envs.tasks import LEDGE_HEIGHT
 from pdsketch_mech.lang.scene import SceneObject
 from pdsketch_mech.samplers.geometry import body_mesh, body_parts, pose_matrix, world_mesh
 from pdsketch_mech.samplers.grasp import antipodal_pairs, sample_grasps, world_grasp_pose
@@ -254,6 +255,28 @@ def test_relief_lifts_an_object_off_its_support_but_not_off_anything_else():
             world.set_pose("box", raised)
             assert penetration(world, "box", "plate") <= 0.001
             assert rest_on_relief(world, "box", "plate", ((0.62, -0.12, z), quaternion)) is None  # in the block
+
+
+def test_an_object_longer_than_a_cradled_plate_lies_across_the_cradle():
+    # A 26 cm spoon on a 24 cm plate sunk in a fixed ledge: lying flat, its ends reach over
+    # the ledge's wall and curb. Fixed bodies are relief, so the spoon is raised onto them
+    # (without it, only placements standing the spoon on its end were left).
+    rng = np.random.default_rng(5)
+    with table_world(("spoon", "spoon/2", 0.4, -0.25), fixed=(("ledge", "ledge/2", (0.55, 0.1, 0.0)),)) as world:
+        world.add_object(SceneObject("plate", "plate/2", (0.55, 0.1, 0.5)), resolve_asset("plate/2", ASSETS))
+        world.set_pose("plate", ((0.55, 0.1, LEDGE_HEIGHT), (0.0, 0.0, 0.0, 1.0)))  # in the cradle
+        hold(world, "spoon", rng)
+        placements = list(sample_placements(world, "spoon", "plate", rng, max_attempts=150))
+        lying = on_ledge = 0
+        for placement in placements:
+            with world.saved():
+                world.set_pose("spoon", placement.pose)
+                assert penetration(world, "spoon", "plate") <= 0.0015
+                assert penetration(world, "spoon", "ledge") <= 0.0015
+                long_axis = Rotation.from_quat(placement.pose[1]).apply([1.0, 0.0, 0.0])
+                lying += abs(long_axis[2]) < 0.5
+                on_ledge += penetration(world, "spoon", "ledge") > -0.002
+        assert lying >= 20 and on_ledge >= 20
 
 
 def test_a_thin_sheet_held_at_its_centre_is_not_laid_flat():

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 GAP = 0.002          # metres between the resting face and the support plane
 PRE_PLACE = 0.08     # metres above the placement (world z)
 SINK = 0.001         # deeper penetration of the object at the placement pose rejects it
-RISE = 0.03          # metres a placement may be raised onto the support's relief (rest_on_relief)
+RISE = 0.03          # metres a placement may be raised onto relief (rest_on_relief)
 RISE_STEPS = 6
 
 Facet = Tuple[np.ndarray, np.ndarray, float]  # outward normal, centre, area (object frame)
@@ -77,16 +77,19 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
 
 
 def rest_on_relief(world: "World", obj: str, support: str, pose: Pose) -> Optional[Pose]:
-    """`pose`, raised (world z, at most RISE) until `obj` no longer sinks into `support`, or
-    None if it sinks into anything else or needs more. A resting face is put on the plane
-    through one surface point; where the support is not flat under the whole face (a dish's
-    rim under a box's end, a bowl's wall) the object rests on that relief instead, tilted
-    once released -- the only way a weight gets far out on a plate. Leaves `obj` there."""
+    """`pose`, raised (world z, at most RISE) until `obj` sinks neither into `support` nor
+    into a fixed body, or None if it sinks into anything movable or needs more. A resting
+    face is put on the plane through one surface point; where the support is not flat under
+    the whole face (a dish's rim under a box's end, a bowl's wall) the object rests on that
+    relief instead, tilted once released -- the only way a weight gets far out on a plate.
+    Fixed bodies count as relief too: a spoon longer than the plate lies across the plate
+    and its cradle's wall. Movable ones do not (a box is not put on a block to reach a
+    plate). Leaves `obj` there."""
     position, orientation = np.asarray(pose[0], dtype=float), tuple(pose[1])
-    support_id = world.bodies[support].id
+    relief = {world.bodies[support].id} | {body.id for body in world.bodies.values() if body.fixed}
     for _ in range(RISE_STEPS):
         world.set_pose(obj, (tuple(position), orientation))
-        depth = body_penetration(world, obj, support_id)
+        depth = body_penetration(world, obj, relief)
         if depth is None:
             return None
         if depth <= SINK:

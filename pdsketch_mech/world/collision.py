@@ -78,13 +78,13 @@ def _closest_distances(world: "World", name: str) -> Iterator[Tuple[int, float]]
                 yield other.id, contact[8]
 
 
-def body_penetration(world: "World", name: str, allowed: int) -> Optional[float]:
-    """How deep body `name`, where it is now, penetrates body id `allowed` (metres, 0 if
-    not at all), or None if it penetrates any other body (not the robot) by more than
-    PENETRATION. A static query, like `body_penetrates`."""
+def body_penetration(world: "World", name: str, allowed: Collection[int]) -> Optional[float]:
+    """How deep body `name`, where it is now, penetrates the bodies of ids `allowed` (metres,
+    the deepest, 0 if none), or None if it penetrates any other body (not the robot) by more
+    than PENETRATION. A static query, like `body_penetrates`."""
     deepest = 0.0
     for other, distance in _closest_distances(world, name):
-        if other == allowed:
+        if other in allowed:
             deepest = max(deepest, -distance)
         elif distance < -PENETRATION:
             return None
