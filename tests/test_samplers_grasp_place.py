@@ -250,11 +250,11 @@ def test_relief_lifts_an_object_off_its_support_but_not_off_anything_else():
         hold(world, "box", rng)
         (x, y, z), quaternion = next(sample_placements(world, "box", "plate", rng)).pose
         with world.saved():
-            raised = rest_on_relief(world, "box", "plate", ((x, y, z - 0.005), quaternion))  # 5 mm into the plate
+            raised = rest_on_relief(world, "box", "plate", ((x, y, z - 0.005), quaternion), z)  # 5 mm into the plate
             assert raised is not None and raised[0][2] >= z - 0.001
             world.set_pose("box", raised)
             assert penetration(world, "box", "plate") <= 0.001
-            assert rest_on_relief(world, "box", "plate", ((0.62, -0.12, z), quaternion)) is None  # in the block
+            assert rest_on_relief(world, "box", "plate", ((0.62, -0.12, z), quaternion), z) is None  # in the block
 
 
 def test_an_object_longer_than_a_cradled_plate_lies_across_the_cradle():

@@ -76,17 +76,19 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
     return matrix
 
 
-def rest_on_relief(world: "World", obj: str, support: str, pose: Pose) -> Optional[Pose]:
-    """`pose`, raised (world z, at most RISE) until `obj` sinks neither into `support` nor
-    into a fixed body, or None if it sinks into anything movable or needs more. A resting
-    face is put on the plane through one surface point; where the support is not flat under
-    the whole face (a dish's rim under a box's end, a bowl's wall) the object rests on that
-    relief instead, tilted once released -- the only way a weight gets far out on a plate.
-    Fixed bodies count as relief too: a spoon longer than the plate lies across the plate
-    and its cradle's wall. Movable ones do not (a box is not put on a block to reach a
-    plate). Leaves `obj` there."""
+def rest_on_relief(world: "World", obj: str, support: str, pose: Pose, surface_z: float) -> Optional[Pose]:
+    """`pose`, raised (world z, at most RISE) until `obj` no longer sinks into `support` or
+    into relief of a fixed body, or None if it sinks into anything else or needs more. A
+    resting face is put on the plane through one surface point of the support (at height
+    `surface_z`); where the support is not flat under the whole face (a dish's rim under a
+    box's end, a bowl's wall) the object rests on that relief instead, tilted once released
+    -- the only way a weight gets far out on a plate. So it may rest on a fixed body's parts that
+    rise above that point: a spoon longer than a plate lies across the plate and the wall of
+    its cradle. Not on what lies below the point (a box on a slope is not propped on the
+    table at its foot), nor on anything movable. Leaves `obj` there."""
     position, orientation = np.asarray(pose[0], dtype=float), tuple(pose[1])
-    relief = {world.bodies[support].id} | {body.id for body in world.bodies.values() if body.fixed}
+    relief = {body.id: surface_z - GAP for body in world.bodies.values() if body.fixed}
+    relief[world.bodies[support].id] = -np.inf
     for _ in range(RISE_STEPS):
         world.set_pose(obj, (tuple(position), orientation))
         depth = body_penetration(world, obj, relief)
@@ -171,7 +173,7 @@ def propose_placements(world: "World", obj: str, support: str, rng: np.random.Ge
         # The only check of the object against the support itself (a point on a bowl's floor
         # by its wall would otherwise put the object in the wall).
         with world.saved():
-            pose = rest_on_relief(world, obj, support, matrix_pose(matrix))
+            pose = rest_on_relief(world, obj, support, matrix_pose(matrix), float(point[2]))
         if pose is None:
             continue
         yield Placement(obj, support, pose, tuple(float(v) for v in support_normal))

@@ -7,7 +7,7 @@ PyBullet also reports near-contacts inside its margin; only penetrations deeper 
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Collection, Iterable, Iterator, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Collection, Iterable, Iterator, Mapping, Optional, Sequence, Tuple
 
 import pybullet as p
 
@@ -68,23 +68,25 @@ class CollisionChecker:
         return hit
 
 
-def _closest_distances(world: "World", name: str) -> Iterator[Tuple[int, float]]:
-    """(other body id, signed distance) of body `name`'s closest points to every other
-    body it touches or penetrates, where it is now (negative: penetration)."""
+def _closest_points(world: "World", name: str) -> Iterator[Tuple[int, float, float]]:
+    """(other body id, signed distance, world z of the point on the other body) of body
+    `name`'s closest points to every other body it touches or penetrates, where it is now
+    (negative distance: penetration)."""
     body_id = world.bodies[name].id
     for other in world.bodies.values():
         if other.id != body_id:
             for contact in p.getClosestPoints(body_id, other.id, 0.0, physicsClientId=world.client):
-                yield other.id, contact[8]
+                yield other.id, contact[8], contact[6][2]
 
 
-def body_penetration(world: "World", name: str, allowed: Collection[int]) -> Optional[float]:
-    """How deep body `name`, where it is now, penetrates the bodies of ids `allowed` (metres,
-    the deepest, 0 if none), or None if it penetrates any other body (not the robot) by more
-    than PENETRATION. A static query, like `body_penetrates`."""
+def body_penetration(world: "World", name: str, allowed: Mapping[int, float]) -> Optional[float]:
+    """How deep body `name`, where it is now, penetrates the bodies whose ids `allowed` maps
+    (metres, the deepest, 0 if none), or None if it penetrates any other body (not the robot)
+    by more than PENETRATION, or an allowed one below the world z `allowed` gives it (only
+    the part of that body above may hold `name` up). A static query, like `body_penetrates`."""
     deepest = 0.0
-    for other, distance in _closest_distances(world, name):
-        if other in allowed:
+    for other, distance, z in _closest_points(world, name):
+        if other in allowed and z >= allowed[other]:
             deepest = max(deepest, -distance)
         elif distance < -PENETRATION:
             return None
@@ -95,4 +97,4 @@ def body_penetrates(world: "World", name: str, depth: float = 1e-3) -> bool:
     """Does body `name`, where it is now, penetrate another body (not the robot) by more
     than `depth`? A static query: nothing moves. Samplers use it for candidate poses of
     an object (a tool at a contact, an object at a placement) before any IK."""
-    return any(distance < -depth for _, distance in _closest_distances(world, name))
+    return any(distance < -depth for _, distance, _ in _closest_points(world, name))
