@@ -9,7 +9,7 @@ holding it there (and at a pre-place pose above) must be reachable and collision
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import TYPE_CHECKING, Iterator, List, Optional, Tuple
+from typing import TYPE_CHECKING, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
@@ -17,6 +17,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from ..world.collision import PENETRATION, CollisionChecker, body_penetration
+from ..world.contacts import read_contacts
 from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
 from .grasp import IK_RESTARTS
 from .interface import Sampler, SampleRequest
@@ -76,18 +77,20 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
     return matrix
 
 
-def rest_on_relief(world: "World", obj: str, support: str, pose: Pose, surface_z: float) -> Optional[Pose]:
+def rest_on_relief(world: "World", obj: str, support: str, pose: Pose, surface_z: float,
+                   holders: Sequence[str] = ()) -> Optional[Pose]:
     """`pose`, raised (world z, at most RISE) until `obj` no longer sinks into `support` or
-    into relief of a fixed body, or None if it sinks into anything else or needs more. A
-    resting face is put on the plane through one surface point of the support (at height
+    into `holders` above `surface_z`, or None if it sinks into anything else or needs more.
+    A resting face is put on the plane through one surface point of the support (at height
     `surface_z`); where the support is not flat under the whole face (a dish's rim under a
     box's end, a bowl's wall) the object rests on that relief instead, tilted once released
-    -- the only way a weight gets far out on a plate. So it may rest on a fixed body's parts that
-    rise above that point: a spoon longer than a plate lies across the plate and the wall of
-    its cradle. Not on what lies below the point (a box on a slope is not propped on the
-    table at its foot), nor on anything movable. Leaves `obj` there."""
+    -- the only way a weight gets far out on a plate. `holders`, the fixed bodies the support
+    rests on, are relief where they rise above that point: a spoon longer than a plate lies
+    across the plate and the wall of the plate's cradle. Not where they lie below it (a box
+    on a slope is not propped on the table at its foot), and no other body (a box put on the
+    table is not propped against a slope bolted to it). Leaves `obj` there."""
     position, orientation = np.asarray(pose[0], dtype=float), tuple(pose[1])
-    relief = {body.id: surface_z - GAP for body in world.bodies.values() if body.fixed}
+    relief = {world.bodies[name].id: surface_z - GAP for name in holders}
     relief[world.bodies[support].id] = -np.inf
     for _ in range(RISE_STEPS):
         world.set_pose(obj, (tuple(position), orientation))
@@ -159,11 +162,12 @@ def propose_placements(world: "World", obj: str, support: str, rng: np.random.Ge
         return
     weights = np.array([f[2] for f in facets])
     weights /= weights.sum()
-    surface, surface_at = None, None
+    surface, surface_at, holders = None, None, []
     for _ in range(max_draws):
         if world.pose(support) != surface_at:  # the caller may move things between yields
             surface_at = world.pose(support)
             surface = up_surface(world, support, up_cos)
+            holders = [name for name in read_contacts(world).supports_of(support) if world.bodies[name].fixed]
         if surface is None:
             return
         points, normals = sample_surface(surface, 1, rng)
@@ -173,7 +177,7 @@ def propose_placements(world: "World", obj: str, support: str, rng: np.random.Ge
         # The only check of the object against the support itself (a point on a bowl's floor
         # by its wall would otherwise put the object in the wall).
         with world.saved():
-            pose = rest_on_relief(world, obj, support, matrix_pose(matrix), float(point[2]))
+            pose = rest_on_relief(world, obj, support, matrix_pose(matrix), float(point[2]), holders)
         if pose is None:
             continue
         yield Placement(obj, support, pose, tuple(float(v) for v in support_normal))
