@@ -10,7 +10,7 @@ from pdsketch_mech.envs.tasks import LEDGE_HEIGHT
 from pdsketch_mech.lang.scene import SceneObject
 from pdsketch_mech.samplers.geometry import body_mesh, body_parts, pose_matrix, world_mesh
 from pdsketch_mech.samplers.grasp import antipodal_pairs, sample_grasps, world_grasp_pose
-from pdsketch_mech.samplers.placement import RISE, rest_on_relief, sample_placements
+from pdsketch_mech.samplers.placement import RISE, fixed_holders, rest_on_relief, sample_placements
 from pdsketch_mech.world.asset_index import assets_root, resolve_asset
 from pdsketch_mech.world.collision import CollisionChecker
 from pdsketch_mech.world.robot import MAX_OPENING
@@ -277,6 +277,17 @@ def test_an_object_longer_than_a_cradled_plate_lies_across_the_cradle():
                 lying += abs(long_axis[2]) < 0.5
                 on_ledge += penetration(world, "spoon", "ledge") > -0.002
         assert lying >= 20 and on_ledge >= 20
+
+
+def test_only_the_fixed_bodies_a_support_rests_on_are_its_relief():
+    # The plate's cradle may hold up a long object put on the plate; a slope bolted to the
+    # table does not prop up an object put on the table. (The table holds the slope up, but
+    # lies below every point of it: `rest_on_relief` takes a holder's parts above the point.)
+    with table_world(fixed=(("ledge", "ledge/2", (0.55, 0.1, 0.0)), ("slope", "slope/2", (0.5, -0.3, 0.0)))) as world:
+        world.add_object(SceneObject("plate", "plate/2", (0.55, 0.1, 0.5)), resolve_asset("plate/2", ASSETS))
+        world.set_pose("plate", ((0.55, 0.1, LEDGE_HEIGHT), (0.0, 0.0, 0.0, 1.0)))
+        assert fixed_holders(world, "plate") == ["ledge"]
+        assert fixed_holders(world, "table") == []
 
 
 def test_a_thin_sheet_held_at_its_centre_is_not_laid_flat():

@@ -105,6 +105,11 @@ def rest_on_relief(world: "World", obj: str, support: str, pose: Pose, surface_z
     return None
 
 
+def fixed_holders(world: "World", support: str) -> List[str]:
+    """The fixed bodies `support` rests on now (a plate's cradle): relief for `rest_on_relief`."""
+    return [name for name in read_contacts(world).supports_of(support) if world.bodies[name].fixed]
+
+
 def placement_configurations(world: "World", placement: Placement, rng: np.random.Generator
                              ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     """(pre-place, place) arm configurations holding the object at `placement.pose` with the
@@ -167,7 +172,7 @@ def propose_placements(world: "World", obj: str, support: str, rng: np.random.Ge
         if world.pose(support) != surface_at:  # the caller may move things between yields
             surface_at = world.pose(support)
             surface = up_surface(world, support, up_cos)
-            holders = [name for name in read_contacts(world).supports_of(support) if world.bodies[name].fixed]
+            holders = fixed_holders(world, support)
         if surface is None:
             return
         points, normals = sample_surface(surface, 1, rng)
