@@ -259,8 +259,8 @@ def test_relief_lifts_an_object_off_its_support_but_not_off_anything_else():
 
 def test_an_object_longer_than_a_cradled_plate_lies_across_the_cradle():
     # A 26 cm spoon on a 24 cm plate sunk in a fixed ledge: lying flat, its ends reach over
-    # the ledge's wall and curb. Fixed bodies are relief, so the spoon is raised onto them
-    # (without it, only placements standing the spoon on its end were left).
+    # the ledge's wall and curb. The fixed body the plate rests on is relief, so the spoon is
+    # raised onto it (without that, only placements standing the spoon on its end were left).
     rng = np.random.default_rng(5)
     with table_world(("spoon", "spoon/2", 0.4, -0.25), fixed=(("ledge", "ledge/2", (0.55, 0.1, 0.0)),)) as world:
         world.add_object(SceneObject("plate", "plate/2", (0.55, 0.1, 0.5)), resolve_asset("plate/2", ASSETS))
