@@ -8,7 +8,7 @@ detours (detours.py): a skeleton's detours delay its own creation as they lower 
 work afterwards, but not the creation of the skeletons behind it. With only the next one
 looked at, one with three detours (weight 1/64) held back every later skeleton: on
 lever-test-0 the 11th skeleton came at 65 s and the one that solved it, the 22nd (push the
-plate with the spoon: the spoon is too light to tip it), at 88 s of 107. The choice reads
+plate with the spoon: the spoon could not lie on the plate then), at 88 s of 107. The choice reads
 the detours only: skeletons that begin with a prefix past a dead step (unblocked.py, 8x the
 weight) jumping the queue too took the work on lever-test-4 (15 of them came at once, 66 ->
 348 s).
