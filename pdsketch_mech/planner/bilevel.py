@@ -5,8 +5,8 @@ Adaptive, in PDDLStream's sense: work is shared between refining the skeletons f
 and taking new ones from the symbolic search (schedule.py; supply.py hands them out), so a
 skeleton that needs many samples is not starved by the search for new ones, and a deep one
 (a tool use 20 skeletons down) is reached within a bounded amount of work. Skeletons that
-wander (detours.py) and mechanism groundings the learned samplers doubt (promise.py) get
-less of it.
+wander (detours.py), mechanism groundings the learned samplers doubt (promise.py) and
+skeletons whose steps keep failing in other skeletons (bottlenecks.py) get less of it.
 """
 from __future__ import annotations
 
@@ -25,6 +25,7 @@ from ..symbolic.optimistic import optimistic_problem
 from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
+from .bottlenecks import SharedOutcomes
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures
@@ -104,6 +105,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     memo = PristineFailures(start=start)
     supply = SkeletonSupply(task, memo, deadline, max_skeletons)
     unblocked = UnblockedPrefixes()
+    outcomes = SharedOutcomes(task.init, contact_mask(task))
     active: Dict[int, Refinement] = {}
     plans: Dict[int, List[int]] = {}
     created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
@@ -112,7 +114,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
 
     def weight(refinement: Refinement) -> float:
         return (sampler.promise.weight(refinement.groundings()) * supply.weight(plans[refinement.rank])
-                * unblocked.weight(refinement.steps))
+                * unblocked.weight(refinement.steps)
+                * outcomes.weight(refinement.outcome_keys, refinement.rank))
 
     try:
         while time.perf_counter() < deadline:
@@ -120,7 +123,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
             # The first upcoming skeleton with the fewest unexplained detours comes next (supply.py).
             detour_weights = [supply.weight(plan) for plan, _, _ in window]
             chosen = heaviest(detour_weights) if window else 0
-            upcoming_weight = detour_weights[chosen] * unblocked.weight(window[chosen][1]) if window else 1.0
+            upcoming_weight = (detour_weights[chosen] * unblocked.weight(window[chosen][1])
+                               * outcomes.weight(outcomes.keys(window[chosen][1])) if window else 1.0)
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
                              supply.taken + 1 if window else None, upcoming_weight)
             if turn is None:
@@ -140,7 +144,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 skeleton_rng = np.random.default_rng([seed, zlib.crc32(label.encode())])
                 active[turn] = Refinement(steps, initial, world, task, sampler, skeleton_rng,
                                           in_fresh_world if validate else None, rank=turn,
-                                          pristine=keys, memo=memo)
+                                          pristine=keys, memo=memo, outcomes=outcomes)
                 plans[turn] = plan
             refinement = active[turn]
             t0, deaths = time.perf_counter(), memo.deaths
@@ -187,6 +191,8 @@ def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
     entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
     if refinement.unblocked:
         entry["unblocked"] = len(refinement.unblocked)
+    if refinement.failures:  # where this skeleton's work went: which step failed, and why
+        entry["failures"] = dict(refinement.failures.most_common(4))
     weight = refinement.sampler.promise.weight(refinement.groundings())
     if weight < 1.0:  # learned samplers held it back (promise.py)
         entry["weight"] = round(weight, 3)

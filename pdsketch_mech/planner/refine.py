@@ -23,6 +23,7 @@ from .bindings import StepSampler
 from .execute import contact_mask, execute_step, observed_state
 
 if TYPE_CHECKING:
+    from .bottlenecks import SharedOutcomes
     from .pristine import PristineFailures, StepKey
 
 TRIES_PER_VISIT = 3  # parameter samples tried at a step before backtracking to the one before
@@ -69,6 +70,8 @@ class Refinement:
     # Steps on untouched objects (pristine.py): keys per step, and the planner's shared record.
     pristine: Sequence[Optional["StepKey"]] = ()
     memo: Optional["PristineFailures"] = None
+    # The planner's record of simulated outcomes per step and contact state (bottlenecks.py).
+    outcomes: Optional["SharedOutcomes"] = None
 
     def __post_init__(self) -> None:
         n = len(self.steps)
@@ -83,6 +86,7 @@ class Refinement:
         self.root_yields = 0
         self.unblocked: Set[int] = set()  # steps found dead where the scene began that simulated here
         self.observable = contact_mask(self.task)
+        self.outcome_keys = self.outcomes.keys(self.steps) if self.outcomes is not None else []
 
     def run(self, deadline: float, max_work: int) -> Optional[List[Dict[str, object]]]:
         """Search for `max_work` more units of work (a parameter sample drawn and simulated,
@@ -143,16 +147,20 @@ class Refinement:
             self.sampler.note_simulated(values)
             if not outcome.ok:
                 self._failed(values, f"{step.name}: {outcome.reason}")
+                self._note(i, False)
                 continue
             if self.memo is not None and self.pristine:
                 self.memo.found(self.pristine[i])
             observed = observed_state(self.task, world)
             if mismatch(observed, step, self.observable):
                 self._failed(values, f"{step.name}: simulated contacts differ from the skeleton")
+                self._note(i, False)
                 continue
             if step.certified and not self._certified(step, observed):
                 self._failed(values, f"{step.mechanism}: its :certified facts do not hold after its steps")
+                self._note(i, False)
                 continue
+            self._note(i, True)
             if self.memo is not None and self.memo.is_dead(step.name, step.args):
                 self.unblocked.add(i)  # done what the scene as it began did not allow
             # A value of a mechanism step is worth what it leads to: it succeeds once the
@@ -193,6 +201,11 @@ class Refinement:
         """A simulated step failed: count why, and tell the samplers of its values."""
         self.failures[reason] += 1
         self.sampler.note_outcome(values, False)
+
+    def _note(self, i: int, ok: bool) -> None:
+        """Share step i's simulated outcome with the other skeletons (bottlenecks.py)."""
+        if self.outcomes is not None:
+            self.outcomes.note(self.outcome_keys[i], self.rank, ok)
 
     def _irrelevant(self, j: int, i: int) -> bool:
         """Whether step j (before step i) is irrelevant to step i's failure: it names none of
