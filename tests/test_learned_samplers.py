@@ -248,6 +248,9 @@ class ByValue:
     def score(self, world, request, variable, proposals):
         return np.array(proposals, dtype=float)
 
+    def extrapolates(self, world, request, variable):
+        return False
+
 
 def best_first(scores, rng, explore):
     """A walk that never explores: the batch strictly best first."""
@@ -323,6 +326,51 @@ def test_a_ranked_sampler_that_keeps_failing_falls_back_to_the_generic_order():
     assert ranked.trust_for(other).explore_chance() == EXPLORE   # another grounding starts afresh
     ranked.outcome(15.0, False)                   # a value this sampler never yielded: ignored
     assert ranked.trust[("tool", "box")].learned_failed == trust.learned_failed
+
+
+class _Spread:
+    """A classifier whose training had every object at x = y = 0.5, give or take 2 cm."""
+
+    def position_statistics(self, slot):
+        return np.array([0.5, 0.5]), np.array([0.02, 0.02])
+
+
+class _Where:
+    """A world of objects at given positions."""
+
+    def __init__(self, **at):
+        self.at = at
+
+    def pose(self, name):
+        return (self.at[name] + (0.1,), (0.0, 0.0, 0.0, 1.0))
+
+
+def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
+    """An object farther from its training positions than EXTRAPOLATION_Z standard deviations
+    (a slope moved across the table in a composition) sends the step to the generic sampler,
+    unranked and counted; within them (an object of another shape where training had one),
+    the classifier ranks."""
+    from pdsketch_mech.planner.bindings import StepSampler
+    from pdsketch_mech.samplers.learned.ranked import EXTRAPOLATION_Z, LearnedMechanism
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
+    learned = LearnedMechanism.__new__(LearnedMechanism)
+    learned.model = type("Model", (), {"classifier": lambda self, variable: _Spread()})()
+    learned.context, learned._context = 0, {}
+    learned.score = ByValue().score
+    request = SampleRequest("s", (), (), StepContext("place", (), "m", ("stick", "slope")))
+    near = 0.5 + 0.02 * (EXTRAPOLATION_Z - 1)
+    far = 0.5 + 0.02 * (EXTRAPOLATION_Z + 1)
+    assert not learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, "?p")
+    assert learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(0.5, far)), request, "?p")
+    ranked = RankedSampler(AllVerify(8), learned, "?p", pool=0)
+    steps = StepSampler({}, {}, None)
+    steps._ranked[("s", "m", "?p")] = ranked
+    rng = np.random.default_rng(0)
+    assert list(ranked.draw(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, rng, budget=3))[0] == 7.0
+    moved = _Where(stick=(0.5, 0.5), slope=(0.5, far))
+    assert list(ranked.draw(moved, request, rng, budget=3)) == [0.0, 1.0, 2.0]   # the generic order
+    assert ranked.extrapolated == {("stick", "slope"): 1}
+    assert steps.trust()["m ?p"]["extrapolated"] == 1
 
 
 def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():

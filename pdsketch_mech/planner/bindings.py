@@ -97,16 +97,21 @@ class StepSampler:
 
     def trust(self) -> Dict[str, Dict[str, object]]:
         """Per mechanism variable with a learned sampler: outcomes of learned and random picks
-        (successes, failures), summed over groundings, and the highest chance of a random
-        pick any grounding reached."""
+        (successes, failures), summed over groundings, the highest chance of a random pick
+        any grounding reached, and the visits drawn in the generic order because the
+        classifier would have extrapolated (samplers/learned/ranked.py)."""
         out: Dict[str, Dict[str, object]] = {}
         for (_, mechanism, variable), sampler in sorted(self._ranked.items()):
+            if not sampler.trust and not sampler.extrapolated:
+                continue
+            row = out.setdefault(f"{mechanism} {variable}", {"learned": [0, 0], "random": [0, 0], "explore": 0.0})
             for record in sampler.trust.values():
-                row = out.setdefault(f"{mechanism} {variable}", {"learned": [0, 0], "random": [0, 0], "explore": 0.0})
                 for arm, counts in (("learned", (record.learned_ok, record.learned_failed)),
                                     ("random", (record.random_ok, record.random_failed))):
                     row[arm] = [row[arm][0] + counts[0], row[arm][1] + counts[1]]
                 row["explore"] = max(row["explore"], round(record.explore_chance(), 3))
+            if sampler.extrapolated:
+                row["extrapolated"] = row.get("extrapolated", 0) + sum(sampler.extrapolated.values())
         return out
 
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,

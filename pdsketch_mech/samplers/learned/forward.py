@@ -8,7 +8,7 @@ the layout); tests check that both passes give the same scores.
 """
 from __future__ import annotations
 
-from typing import Dict, List, Mapping, Sequence
+from typing import Dict, List, Mapping, Sequence, Tuple
 
 import numpy as np
 
@@ -126,6 +126,12 @@ class NumpyClassifier:
         if self.spec.outputs == 1:
             return logits[:, 0]
         return log_sigmoid(logits - layers["prior_shift"]).sum(-1)
+
+
+    def position_statistics(self, slot: int) -> Tuple[np.ndarray, np.ndarray]:
+        """Mean and standard deviation of object `slot`'s x and y over the training rows (the
+        first columns of its input standardisation: its pose comes first)."""
+        return self.layers[f"object_norm.{slot}.mean"][:2], self.layers[f"object_norm.{slot}.std"][:2]
 
 
 def rotate_inverse(q: np.ndarray, v: np.ndarray) -> np.ndarray:
