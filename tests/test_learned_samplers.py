@@ -336,20 +336,21 @@ class _Spread:
 
 
 class _Where:
-    """A world of objects at given positions."""
+    """A world of objects at given positions; the slope is fixed, the others movable."""
 
     def __init__(self, **at):
         self.at = at
+        self.bodies = {name: type("Body", (), {"fixed": name == "slope"})() for name in at}
 
     def pose(self, name):
         return (self.at[name] + (0.1,), (0.0, 0.0, 0.0, 1.0))
 
 
 def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
-    """An object farther from its training positions than EXTRAPOLATION_Z standard deviations
-    (a slope moved across the table in a composition) sends the step to the generic sampler,
-    unranked and counted; within them (an object of another shape where training had one),
-    the classifier ranks."""
+    """A fixed object farther from its training positions than EXTRAPOLATION_Z standard
+    deviations (a slope moved across the table in a composition) sends the step to the
+    generic sampler, unranked and counted; within them, or a movable object as far (a box
+    out of reach elsewhere), the classifier ranks."""
     from pdsketch_mech.planner.bindings import StepSampler
     from pdsketch_mech.samplers.learned.ranked import EXTRAPOLATION_Z, LearnedMechanism
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
@@ -362,6 +363,7 @@ def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
     far = 0.5 + 0.02 * (EXTRAPOLATION_Z + 1)
     assert not learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, "?p")
     assert learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(0.5, far)), request, "?p")
+    assert not learned.extrapolates(_Where(stick=(far, far), slope=(0.5, 0.5)), request, "?p")
     ranked = RankedSampler(AllVerify(8), learned, "?p", pool=0)
     steps = StepSampler({}, {}, None)
     steps._ranked[("s", "m", "?p")] = ranked
