@@ -90,6 +90,9 @@ class ByValue:
     def ranks_proposals(self, variable):
         return True
 
+    def extrapolates(self, world, request, variable):
+        return False
+
     def score(self, world, request, variable, proposals):
         offset = 0.0 if request.step.mechanism_args[0] == "tool" else -3.0
         return np.array(proposals, dtype=float) - 10.0 + offset
