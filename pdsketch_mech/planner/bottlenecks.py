@@ -62,6 +62,7 @@ class SharedOutcomes:
         self._by_rank: Dict[Tuple[OutcomeKey, int], List[int]] = defaultdict(lambda: [0, 0])
 
     def keys(self, steps: Sequence[Step]) -> List[OutcomeKey]:
+        """The skeleton `steps`' step keys (`outcome_keys` from this task's initial state)."""
         return outcome_keys(steps, self.init, self.observable)
 
     def note(self, key: OutcomeKey, rank: int, ok: bool) -> None:

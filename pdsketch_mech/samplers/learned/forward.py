@@ -127,7 +127,6 @@ class NumpyClassifier:
             return logits[:, 0]
         return log_sigmoid(logits - layers["prior_shift"]).sum(-1)
 
-
     def position_statistics(self, slot: int) -> Tuple[np.ndarray, np.ndarray]:
         """Mean and standard deviation of object `slot`'s x and y over the training rows (the
         first columns of its input standardisation: its pose comes first)."""
