@@ -249,7 +249,7 @@ class ByValue:
         return np.array(proposals, dtype=float)
 
     def extrapolates(self, world, request, variable):
-        return False
+        return None   # no fixed object out of place
 
 
 def best_first(scores, rng, explore):
@@ -362,8 +362,8 @@ def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
     near = 0.5 + 0.02 * (EXTRAPOLATION_Z - 1)
     far = 0.5 + 0.02 * (EXTRAPOLATION_Z + 1)
     assert not learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, "?p")
-    assert learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(0.5, far)), request, "?p")
-    assert not learned.extrapolates(_Where(stick=(far, far), slope=(0.5, 0.5)), request, "?p")
+    assert learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(0.5, far)), request, "?p") == "slope"
+    assert learned.extrapolates(_Where(stick=(far, far), slope=(0.5, 0.5)), request, "?p") is None
     ranked = RankedSampler(AllVerify(8), learned, "?p", pool=0)
     steps = StepSampler({}, {}, None)
     steps._ranked[("s", "m", "?p")] = ranked
@@ -371,8 +371,11 @@ def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
     assert list(ranked.draw(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, rng, budget=3))[0] == 7.0
     moved = _Where(stick=(0.5, 0.5), slope=(0.5, far))
     assert list(ranked.draw(moved, request, rng, budget=3)) == [0.0, 1.0, 2.0]   # the generic order
-    assert ranked.extrapolated == {("stick", "slope"): 1}
+    assert ranked.extrapolated == {(("stick", "slope"), "slope"): 1}
     assert steps.trust()["m ?p"]["extrapolated"] == 1
+    warning, = steps.extrapolation_warnings()   # the plan command prints it
+    assert warning.startswith("mechanism 'm': its learned samplers were not used on 1 visit of its steps, "
+                              "because slope stood far")
 
 
 def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():

@@ -91,7 +91,7 @@ class ByValue:
         return True
 
     def extrapolates(self, world, request, variable):
-        return False
+        return None   # no fixed object out of place
 
     def score(self, world, request, variable, proposals):
         offset = 0.0 if request.step.mechanism_args[0] == "tool" else -3.0

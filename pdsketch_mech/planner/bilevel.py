@@ -91,7 +91,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                                 "proposals": sampler.proposals, "simulated": sampler.simulated,
                                 "score_ms": [m.score_seconds for m in (learned or {}).values()],
                                 "shape_ms": [m.shape_seconds for m in (learned or {}).values()],
-                                "trust": sampler.trust}
+                                "trust": sampler.trust, "extrapolation_warnings": sampler.extrapolation_warnings}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
@@ -219,6 +219,9 @@ def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, obje
     shapes = [t for times in stats["shape_ms"] for t in times]
     out["shape_ms"] = {"encoded": len(shapes), "total": round(1000 * sum(shapes), 2)}
     out["trust"] = stats["trust"]()
+    warnings = list(stats.get("warnings", ())) + out.pop("extrapolation_warnings")()
+    if warnings:
+        out["warnings"] = warnings
     out["symbolic_s"] = round(stats["symbolic_s"], 3)
     out["continuous_s"] = round(stats["continuous_s"], 3)
     out["failures"] = dict(failures.most_common(8))

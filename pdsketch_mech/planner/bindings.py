@@ -114,6 +114,21 @@ class StepSampler:
                 row["extrapolated"] = row.get("extrapolated", 0) + sum(sampler.extrapolated.values())
         return out
 
+    def extrapolation_warnings(self) -> List[str]:
+        """One line per mechanism whose learned samplers stood aside because a fixed object
+        was far from where their training had it (samplers/learned/ranked.py)."""
+        visits: Dict[str, int] = Counter()
+        objects: Dict[str, set] = {}
+        for (_, mechanism, _), sampler in self._ranked.items():
+            for (_, name), count in sampler.extrapolated.items():
+                visits[mechanism] += count
+                objects.setdefault(mechanism, set()).add(name)
+        return [f"mechanism '{mechanism}': its learned samplers were not used on {visits[mechanism]} "
+                f"visit{'' if visits[mechanism] == 1 else 's'} of its steps, "
+                f"because {', '.join(sorted(objects[mechanism]))} stood far from where their training had it "
+                "(the generic samplers drew instead; retrain on a task distribution that varies that)"
+                for mechanism in sorted(visits)]
+
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,
                 parents: Optional[Mapping[str, object]] = None, per_value: int = 1) -> Iterator[Dict[str, object]]:
         """Assignments {placeholder: value} for the placeholders among the step's arguments;

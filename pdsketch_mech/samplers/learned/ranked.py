@@ -131,10 +131,10 @@ class LearnedMechanism:
         self.score_seconds.append(time.perf_counter() - started - sum(self.shape_seconds[embedded:]))
         return out
 
-    def extrapolates(self, world: "World", request: SampleRequest, variable: str) -> bool:
-        """Whether a fixed object the classifier of `variable` reads stands where its training
-        never had one: x or y more than EXTRAPOLATION_Z standard deviations (at least
-        MIN_SPREAD) from the training mean."""
+    def extrapolates(self, world: "World", request: SampleRequest, variable: str) -> Optional[str]:
+        """The first fixed object the classifier of `variable` reads that stands where its
+        training never had one (x or y more than EXTRAPOLATION_Z standard deviations, at least
+        MIN_SPREAD, from the training mean), or None."""
         classifier = self.model.classifier(variable)
         for slot, name in enumerate(self.objects(world, request)):
             if not world.bodies[name].fixed:
@@ -142,8 +142,8 @@ class LearnedMechanism:
             mean, std = classifier.position_statistics(slot)
             z = np.abs((np.asarray(world.pose(name)[0][:2]) - mean) / np.maximum(std, MIN_SPREAD))
             if float(z.max()) > EXTRAPOLATION_Z:
-                return True
-        return False
+                return name
+        return None
 
     def objects(self, world: "World", request: SampleRequest) -> Tuple[str, ...]:
         """The objects the classifiers see: the mechanism's, then (for a checkpoint trained with
@@ -202,7 +202,8 @@ class RankedSampler(Sampler):
         # Told of every scored batch: (the request, the scores), e.g. planner/promise.py.
         self.on_scores: Optional[Callable[[SampleRequest, np.ndarray], None]] = None
         self._pending: Dict[int, Tuple[object, Trust, bool]] = {}  # id(value) -> (value, its trust, explored)
-        self.extrapolated: Dict[Tuple[str, ...], int] = {}   # per grounding: visits drawn in the generic order
+        # Visits drawn in the generic order, per (grounding, the fixed object out of place).
+        self.extrapolated: Dict[Tuple[Tuple[str, ...], str], int] = {}
 
     def trust_for(self, request: SampleRequest) -> Trust:
         """The plan's record of learned against random picks for the step's grounding."""
@@ -226,9 +227,10 @@ class RankedSampler(Sampler):
 
     def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
              budget: Optional[int] = None) -> Iterator[object]:
-        if self.learned.extrapolates(world, request, self.variable):
-            grounding = tuple(request.step.mechanism_args)
-            self.extrapolated[grounding] = self.extrapolated.get(grounding, 0) + 1
+        outside = self.learned.extrapolates(world, request, self.variable)
+        if outside is not None:
+            key = (tuple(request.step.mechanism_args), outside)
+            self.extrapolated[key] = self.extrapolated.get(key, 0) + 1
             yield from self.generic.draw(world, request, rng, budget)
             return
         if not self.pool:
