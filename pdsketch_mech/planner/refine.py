@@ -146,19 +146,16 @@ class Refinement:
             self.executions += 1
             self.sampler.note_simulated(values)
             if not outcome.ok:
-                self._failed(values, f"{step.name}: {outcome.reason}")
-                self._note(i, False)
+                self._failed(i, values, f"{step.name}: {outcome.reason}")
                 continue
             if self.memo is not None and self.pristine:
                 self.memo.found(self.pristine[i])
             observed = observed_state(self.task, world)
             if mismatch(observed, step, self.observable):
-                self._failed(values, f"{step.name}: simulated contacts differ from the skeleton")
-                self._note(i, False)
+                self._failed(i, values, f"{step.name}: simulated contacts differ from the skeleton")
                 continue
             if step.certified and not self._certified(step, observed):
-                self._failed(values, f"{step.mechanism}: its :certified facts do not hold after its steps")
-                self._note(i, False)
+                self._failed(i, values, f"{step.mechanism}: its :certified facts do not hold after its steps")
                 continue
             self._note(i, True)
             if self.memo is not None and self.memo.is_dead(step.name, step.args):
@@ -197,10 +194,12 @@ class Refinement:
         return (step.mechanism is not None and following is not None and following.mechanism == step.mechanism
                 and following.index == step.index + 1)
 
-    def _failed(self, values: Dict[str, object], reason: str) -> None:
-        """A simulated step failed: count why, and tell the samplers of its values."""
+    def _failed(self, i: int, values: Dict[str, object], reason: str) -> None:
+        """Simulated step i failed: count why, tell the samplers of its values, and share the
+        outcome with the other skeletons."""
         self.failures[reason] += 1
         self.sampler.note_outcome(values, False)
+        self._note(i, False)
 
     def _note(self, i: int, ok: bool) -> None:
         """Share step i's simulated outcome with the other skeletons (bottlenecks.py)."""
