@@ -80,3 +80,28 @@ def test_the_support_height_map_agrees_with_single_rays_and_casts_each_node_once
         # outline and rim): a handful of 400 points, where a misplaced grid would get most wrong.
         assert np.mean(answers != single) <= 0.02
         assert answers.any() and not answers.all()   # both answers occur: past the edge and over the table
+
+
+@pytest.mark.parametrize("asset,overhang", [("caliper/0", -0.2), ("caliper/0", 0.05), ("plate/0", 0.05)])
+def test_the_fingers_tested_first_keep_exactly_the_frames_the_full_tests_keep(monkeypatch, asset, overhang):
+    """The grasp sampler tests the fingers against the support before the costlier test against
+    the object's own surface (a caliper lying flat fails there); every test only drops frames,
+    so the frames kept must be the same as without that early test, lying flat or overhanging."""
+    import pdsketch_mech.samplers.grasp as grasp
+    from pdsketch_mech.samplers.geometry import body_mesh, pose_matrix
+    from pdsketch_mech.samplers.support_heights import SupportHeights
+    with overhanging(asset, overhang) as world:
+        mesh = body_mesh(world, "thing")
+        placed = pose_matrix(world.pose("thing"))
+        p1s, p2s = grasp.antipodal_pool(mesh).pairs(np.arange(0, grasp.POOL_POINTS, 4))
+
+        def frames():
+            heights = SupportHeights(world, "thing", world.aabb("thing")[0][2], grasp._gripper_radius(grasp.MAX_OPENING))
+            return grasp._approach_frames(world, mesh, placed, p1s, p2s, heights, np.random.default_rng(3))
+        early = frames()
+        monkeypatch.setattr(grasp, "_EARLY_SUPPORT_TESTS", (grasp._fingertip_points,))
+        late = frames()
+    assert len(early) == len(late) == len(p1s)
+    assert all(np.array_equal(a, b) for a, b in zip(early, late))
+    if overhang > 0:
+        assert sum(len(a) for a in early) > 0   # an overhang keeps some: the comparison is not of empty sets
