@@ -61,6 +61,21 @@ def test_every_method_plans_the_same_instances():
     assert [i for i, _, _ in by_method["macro"]] == ["com-test-5", "com-test-6"]
 
 
+def test_a_planner_seed_offset_plans_the_same_instances_with_other_seeds(tmp_path):
+    plain = mechanisms.instance_jobs("com", ["macro"], 2, 5, 60.0, "com.pddl")
+    shifted = mechanisms.instance_jobs("com", ["macro"], 2, 5, 60.0, "com.pddl", planner_seed_offset=100)
+    assert [(j.instance, j.problem_text) for j in shifted] == [(j.instance, j.problem_text) for j in plain]
+    assert [j.seed for j in plain] == [5, 6] and [j.seed for j in shifted] == [105, 106]
+    # A run made before the option existed resumes with the default only.
+    folder = tmp_path / "old"
+    folder.mkdir()
+    (folder / "config.json").write_text('{"kind": "mechanisms", "seed": 0, "timeout_s": 60.0}')
+    with pytest.raises(TrialsError, match="planner_seed_offset=0"):
+        TrialStore(str(folder), {"kind": "mechanisms", "seed": 0, "planner_seed_offset": 100, "timeout_s": 60.0},
+                   resume=True)
+    TrialStore(str(folder), {"kind": "mechanisms", "seed": 0, "planner_seed_offset": 0, "timeout_s": 60.0}, resume=True)
+
+
 def test_table1_counts_unfinished_trials_at_the_limit_and_marks_a_lower_bound():
     column = mechanisms.BY_TASK["edge"]
     trials = [trial("edge", "macro", 0, time_s=10.0), trial("edge", "macro", 1, "unsolved", 99.0),

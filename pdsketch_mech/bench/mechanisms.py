@@ -45,16 +45,17 @@ def fragment_of(column: PaperTask, folder: str) -> str:
 
 
 def instance_jobs(task: str, methods: Sequence[str], trials: int, seed: int, timeout: float, domain: str,
-                  mechanisms: Tuple[str, ...] = ()) -> List[Job]:
+                  mechanisms: Tuple[str, ...] = (), planner_seed_offset: int = 0) -> List[Job]:
     """Trial i of every method plans the test-split instance of seed `seed + i` with planner
-    seed `seed + i`: the methods see the same instances."""
+    seed `seed + i + planner_seed_offset`: the methods see the same instances."""
     from ..envs.generate import sample
     from ..envs.tasks import TASKS
     jobs = []
     for i in range(trials):
         instance = sample(TASKS[task], "test", seed + i)
         text = instance.problem_text()
-        jobs += [Job(task, method, i, instance.name, text, domain, mechanisms, seed + i, timeout) for method in methods]
+        jobs += [Job(task, method, i, instance.name, text, domain, mechanisms, seed + i + planner_seed_offset, timeout)
+                 for method in methods]
     return jobs
 
 

@@ -40,6 +40,9 @@ def _add_common(parser: argparse.ArgumentParser, tasks: Sequence[str], default_o
     parser.add_argument("--trials", type=count, default=10, metavar="N",
                         help="test-split instances per task, seeds S..S+N-1, the same for every method (default 10)")
     parser.add_argument("--seed", type=seed, default=0, metavar="S", help="first instance and planner seed (default 0)")
+    parser.add_argument("--planner-seed-offset", type=seed, default=0, metavar="K",
+                        help="plan instance S+i with planner seed S+i+K (default 0): the same instances with "
+                             "other seeds, to see how far a cell moves with the planner's luck")
     parser.add_argument("--timeout", type=seconds, default=600.0, metavar="S", help="seconds per plan (default 600)")
     parser.add_argument("--workers", type=count, default=1, metavar="K",
                         help="plans at a time, each its own process (default 1; times are measured under that load)")
@@ -74,7 +77,8 @@ def _check(args: argparse.Namespace, fragments: Sequence[str]) -> None:
 
 
 def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
-    config = {"kind": kind, "seed": args.seed, "timeout_s": args.timeout, "mechanisms_dir": args.mechanisms_dir}
+    config = {"kind": kind, "seed": args.seed, "planner_seed_offset": args.planner_seed_offset,
+              "timeout_s": args.timeout, "mechanisms_dir": args.mechanisms_dir}
     if args.table_only and not os.path.exists(os.path.join(args.out, TRIALS_FILE)):
         raise BenchError(f"--table-only: {args.out} holds no trials")
     try:
@@ -121,7 +125,8 @@ def run_mechanisms_command(args: argparse.Namespace) -> int:
     fragments = {c.task: mechanisms.fragment_of(c, args.mechanisms_dir) for c in columns}
     _check(args, list(fragments.values()))
     jobs = [job for c in columns for job in mechanisms.instance_jobs(c.task, methods, args.trials, args.seed,
-                                                                     args.timeout, fragments[c.task])]
+                                                                     args.timeout, fragments[c.task],
+                                                                     planner_seed_offset=args.planner_seed_offset)]
     trials = _run(args, jobs, "mechanisms")
     header, rows, lines = mechanisms.table(trials, columns, methods, args.timeout)
     png = os.path.join(args.out, "table.png")
@@ -140,7 +145,7 @@ def run_compose_command(args: argparse.Namespace) -> int:
         raise BenchError(f"--mechanisms-dir {args.mechanisms_dir}: no .pddl fragments there")
     _check(args, (BASIS,) + fragments)
     jobs = [job for t in tasks for job in mechanisms.instance_jobs(t, methods, args.trials, args.seed, args.timeout,
-                                                                   BASIS, fragments)]
+                                                                   BASIS, fragments, args.planner_seed_offset)]
     trials = _run(args, jobs, "compose")
     columns = [compose.BY_TASK[t] for t in tasks]
     header, rows, lines = compose.table(trials, columns, methods)

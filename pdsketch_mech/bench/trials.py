@@ -139,6 +139,8 @@ def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> It
 
 
 TRIALS_FILE = "trials.jsonl"   # in OUT: one line per finished trial
+# Settings a config.json written before they existed holds implicitly (a resume compares them too).
+CONFIG_DEFAULTS: Dict[str, object] = {"planner_seed_offset": 0}
 
 
 class TrialStore:
@@ -154,7 +156,7 @@ class TrialStore:
                 raise TrialsError(f"{folder}: holds results of an earlier run; --resume continues it, "
                                   f"or give another --out")
             with open(config_path, encoding="utf-8") as handle:
-                before = json.load(handle)
+                before = {**CONFIG_DEFAULTS, **json.load(handle)}
             changed = sorted(k for k in config if k in before and before[k] != config[k])
             if changed:
                 raise TrialsError(f"{folder}: was run with other settings ({', '.join(f'{k}={before[k]}' for k in changed)})"
