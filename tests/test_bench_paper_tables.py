@@ -89,6 +89,21 @@ def test_table1_counts_unfinished_trials_at_the_limit_and_marks_a_lower_bound():
     assert any("2.0x fewer values" in line for line in lines)
 
 
+def test_a_row_of_the_planners_own_time_when_the_trials_recorded_it():
+    """The start-up is apart: a row of planning_s (unfinished trials at the limit), and none
+    for trials stored before planning_s was recorded."""
+    column = mechanisms.BY_TASK["com"]
+    trials = [trial("com", "macro+sampler", 0, time_s=1.2), trial("com", "macro+sampler", 1, "unsolved", 61.0),
+              trial("com", "macro", 0, time_s=1.1)]
+    trials[0].planning_s, trials[1].planning_s = 0.5, 60.3
+    header, rows, lines = mechanisms.table(trials, [column], ["macro", "macro+sampler"], timeout=60.0)
+    assert [r[0] for r in rows] == ["Macro (ours)", "Macro (paper)", "Macro+Sampler (ours)",
+                                    "Macro+Sampler (ours, planner alone)", "Macro+Sampler (paper)"]
+    assert rows[3][1] == ">30.25 (med 30.25)"
+    assert any(line.startswith("Macro+Sampler, planner alone: geometric mean 30.25 s") for line in lines)
+    assert not any(line.startswith("Macro, planner alone") for line in lines)
+
+
 def test_table1_says_when_nothing_finished_and_draws_the_paper_beside(tmp_path):
     column = mechanisms.BY_TASK["poking"]
     trials = [trial("poking", "basis", i, "unsolved", 60.0) for i in range(2)]
@@ -171,6 +186,7 @@ def test_table1_end_to_end_plans_replays_and_resumes(tmp_path, capsys):
     results = json.load(open(os.path.join(out, "results.json")))
     (only,) = results["trials"]
     assert only["status"] == "solved" and only["instance"] == "com-test-0" and sum(only["simulated"].values()) > 0
+    assert 0 < only["planning_s"] < only["time_s"]  # the planner's own time, start-up apart
     assert os.path.getsize(os.path.join(out, "table.png")) > 0
     assert main(argv + ["--resume"]) == 0  # nothing left to run: the same table from the store
     assert "0 to run" in capsys.readouterr().err

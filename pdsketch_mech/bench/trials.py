@@ -71,6 +71,7 @@ class Trial:
     reason: str = ""
     score_ms: Optional[float] = None  # median time to score a batch with learned samplers
     commit: str = ""                  # the checkout that planned it (a resumed run may span several)
+    planning_s: Optional[float] = None  # the planner's own time: time_s less the process's start-up
 
     @property
     def key(self) -> Tuple[str, str, int]:
@@ -112,7 +113,7 @@ def run_job(job: Job, folder: Optional[str] = None) -> Trial:
                   run.skeletons, run.refined, run.steps,
                   {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
                   {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason,
-                  (stats.get("score_ms") or {}).get("median"), checkout_commit())
+                  (stats.get("score_ms") or {}).get("median"), checkout_commit(), stats.get("planning_s"))
     if trial.status == "solved":
         ok, message = replay_once(job.domain, problem, out, mechanisms=job.mechanisms)
         if not ok:
