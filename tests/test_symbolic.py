@@ -177,21 +177,6 @@ def test_hook_use_skeleton_is_enumerated_with_basis_operators():
     assert hook in names
 
 
-def test_a_mechanism_comes_before_a_basis_plan_of_the_same_length():
-    """Ties in the skeleton order go to the path with more mechanisms: the Edge mechanism (one
-    macro) before grasping the flat object where it lies (one basis step), the longer plans
-    after both."""
-    from pdsketch_mech.planner.bilevel import prepare_task
-    loaded = load_domain([os.path.join(ROOT, "domains", "basis.pddl"),
-                          os.path.join(ROOT, "domains", "mechanisms", "edge.pddl")])
-    loaded, problem = load_problem(os.path.join(ROOT, "problems", "edge.pddl"), [loaded])
-    task, _ = prepare_task(loaded, problem)
-    plans = [[task.operators[o] for o in plan] for _, plan in zip(range(4), iter_skeletons(task))]
-    assert [op.name for op in plans[0]] == ["edge"]
-    assert [op.name for op in plans[1]] == ["grasp"]
-    assert all(len(plan) > 1 for plan in plans[2:])
-
-
 def test_grounding_respects_the_deadline():
     loaded, prob = load_problem(os.path.join(DATA, "ipc", "logistics00", "problem03.pddl"))
     result = solve(loaded.domain, prob, loaded.types, timeout=0.005)

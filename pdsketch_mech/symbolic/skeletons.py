@@ -15,11 +15,6 @@ and `relevant` (the bits that matter, asked as the search goes) paths are also t
 by which of those objects they have handled: hooking a box that is out of reach closer and
 putting it back on the table returns to the initial symbolic state, but not to the initial
 scene, and must not compete with the many no-op pushes that reach that state too.
-Among paths of equal f and h, the one with more mechanisms goes first: a mechanism is a
-learned strategy for the situation, and a basis step of the same cost, such as grasping a
-flat object where it lies, is usually what the situation rules out (the Edge, Lever, Hook and
-Poking tasks each open with one). Over Table 1's tasks, 30 runs each, that cut the geometric
-mean time per run 3.18 -> 2.95 s (Edge 2.73 -> 2.16 s; README).
 """
 from __future__ import annotations
 
@@ -69,10 +64,8 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
     def visit_key(state, cost: int, handled: int) -> tuple:
         return state, cost, handled & relevant() if relevant is not None else 0
 
-    # (f, h, tie-break, state, cost, objects handled, objects handled before the last op, path).
-    # Ties go to the path with more mechanisms (a learned strategy for the situation before a
-    # basis step the search ranks as good), then to the one generated first.
-    open_list = [(weight * h_cache[task.init], h_cache[task.init], (0, counter), task.init, 0, 0, 0, None)]
+    # (f, h, tie-break, state, cost, objects handled, objects handled before the last op, path)
+    open_list = [(weight * h_cache[task.init], h_cache[task.init], counter, task.init, 0, 0, 0, None)]
     waiting: list = []
     while open_list or waiting:
         if not open_list:
@@ -81,7 +74,7 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
         if deadline is not None and time.perf_counter() > deadline:
             return
         node = heapq.heappop(open_list)
-        _, _, (minus_macros, _), state, cost, handled, before, path = node
+        _, _, _, state, cost, handled, before, path = node
         if blocked is not None and path is not None and blocked(before, path[1]):
             waiting.append(node)  # found out since it was generated
             continue
@@ -110,8 +103,7 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
             if h == INFINITY:
                 continue
             counter += 1
-            macros = minus_macros - (1 if task.operators[op].steps else 0)
-            item = (cost + 1 + weight * h, h, (macros, counter), child, cost + 1, child_handled, handled, (path, op))
+            item = (cost + 1 + weight * h, h, counter, child, cost + 1, child_handled, handled, (path, op))
             if waits:
                 waiting.append(item)
             else:
