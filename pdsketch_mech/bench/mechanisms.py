@@ -5,8 +5,8 @@ only, by the mechanism with generic samplers (Macro) and with its learned sample
 Times are what the user waits (the planner process's own clock, start-up included). A mean
 over trials that did not all finish counts each unfinished one at the limit and is shown as
 ">mean": a lower bound, as the paper's ">600". Trials that recorded it also get a row of the
-planner's own time, start-up excluded (`planning_s`): the measure of a planning algorithm
-the paper's times are, apart from the ~0.7 s a process takes to start and build its world.
+planner's own time (`planning_s`): what the paper's times measure, a planning algorithm's
+run, without the ~0.65 s a process takes to start, import and build its world.
 """
 from __future__ import annotations
 
@@ -72,7 +72,7 @@ class Cell:
     median_s: float        # likewise
     lower_bound: bool      # some trial did not finish: the mean is at least this
     median_samples: float  # values simulated
-    planning: Optional[Tuple[float, float]] = None  # mean, median of the planner's own time, if every trial has it
+    planning: Optional[Tuple[float, float]] = None  # mean, median of the planner's own time (solved trials recorded it)
 
 
 def cell(trials: Sequence[Trial], timeout: float) -> Optional[Cell]:

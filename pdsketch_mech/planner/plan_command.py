@@ -93,7 +93,7 @@ def summary(result: PlanResult) -> str:
     s = result.stats
     samples = ", ".join(f"{k} {v}" for k, v in s["samples"].items()) or "none"
     head = (f"solved: {len(result.steps)} steps" if result.status == "solved" else f"unsolved: {result.reason}")
-    return (f"{head} in {result.time_s:.2f} s ({s['startup_s']:.2f} s start-up, {s['symbolic_s']:.2f} s symbolic, "
-            f"{s['continuous_s']:.2f} s sampling and simulation); {s['skeletons']} skeletons, {s['executions']} executed steps, "
-            f"{s['sim_steps']} physics steps, {s['rejected']} refinements rejected by re-execution; "
+    return (f"{head} in {result.time_s:.2f} s ({s['startup_s']:.2f} s start-up, {s['symbolic_s']:.2f} s "
+            f"symbolic, {s['continuous_s']:.2f} s sampling and simulation); {s['skeletons']} skeletons, "
+            f"{s['executions']} executed steps, {s['sim_steps']} physics steps, {s['rejected']} refinements rejected by re-execution; "
             f"samples: {samples}")
