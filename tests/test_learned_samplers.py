@@ -497,9 +497,11 @@ def test_the_comparison_goes_into_the_learning_report_once(tmp_path):
     report.write_text("# Learned samplers of mechanism `hook-use`\n\n| parameter | AUC |\n|---|---|\n")
     trials = [Trial("a", False, "macro", "solved", 10, {"grasp": 10, "contact": 40}, {"grasp": 6, "contact": 9}),
               Trial("a", False, "macro+sampler", "solved", 5, {"grasp": 4, "contact": 12}, {"grasp": 2, "contact": 1})]
-    png = add_to_report(trials, str(report), "hook-use", "python -m pdsketch_mech.bench samplers hook-use --report")
+    png = add_to_report(trials, str(report), "hook-use", "python -m pdsketch_mech.bench samplers hook-use --report",
+                        "abc1234")
     assert png == str(tmp_path / "hook-use.samplers-fig8.png") and os.path.getsize(png) > 0
     text = report.read_text()
+    assert "Made by `python -m pdsketch_mech.bench samplers hook-use --report` at commit abc1234:" in text
     assert text.startswith("# Learned samplers of mechanism `hook-use`") and "| parameter | AUC |" in text
     assert "| all | macro+sampler | 1/1 | 5.0 | 16.0 | 3.0 |" in text and "hook-use.samplers-fig8.png" in text
     trials[1] = replace(trials[1], status="unsolved", reason="timed out")
@@ -516,6 +518,24 @@ def test_bench_samplers_report_needs_a_learned_sampler(tmp_path, capsys):
                         .replace('"../basis.pddl"', '"' + os.path.abspath("domains/basis.pddl") + '"'))
     assert main(["samplers", "edge", "--fragment", str(fragment), "--task", "edge", "--report"]) == 2
     assert "names no learned sampler for edge" in capsys.readouterr().err
+
+
+def test_bench_samplers_report_names_the_seed_load_and_commit_it_was_measured_at(tmp_path, monkeypatch, capsys):
+    from pdsketch_mech.bench import samplers
+    from pdsketch_mech.bench.__main__ import main
+    text = open(os.path.join("domains", "mechanisms", "com.pddl"), encoding="utf-8").read()
+    fragment = tmp_path / "com.pddl"
+    fragment.write_text(text.replace('"../basis.pddl"', '"' + os.path.abspath("domains/basis.pddl") + '"'))
+    for suffix in (".safetensors", ".json"):
+        shutil.copy(os.path.join("domains", "mechanisms", "com.samplers" + suffix), tmp_path)
+    (tmp_path / "com.samplers.md").write_text("# Learned samplers of mechanism `com`\n")
+    trials = [samplers.Trial("a", False, method, "solved", 1.0, {"grasp": 2}, {"grasp": 1})
+              for method in ("macro", "macro+sampler")]
+    monkeypatch.setattr(samplers, "run_samplers", lambda *args, **kwargs: trials)
+    monkeypatch.setattr("pdsketch_mech.bench.trials.checkout_commit", lambda: "abc1234")
+    assert main(["samplers", "com", "--fragment", str(fragment), "--seed", "5", "--workers", "2", "--report"]) == 0
+    assert ("Made by `python -m pdsketch_mech.bench samplers com --instances 10 --runs 1 --timeout 120 --seed 5 "
+            "--workers 2 --report` at commit abc1234:") in (tmp_path / "com.samplers.md").read_text()
 
 
 def test_the_used_logit_learns_only_from_successful_episodes():

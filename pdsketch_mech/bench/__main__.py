@@ -174,6 +174,7 @@ def run_reach_command(args: argparse.Namespace) -> int:
 def run_samplers_command(args: argparse.Namespace) -> int:
     """`samplers`: a mechanism's learned samplers against its generic ones on test instances."""
     from . import samplers
+    from .trials import checkout_commit
     from ..learning.selfplay import default_fragment, task_of
 
     fragment = args.fragment or default_fragment(args.name)
@@ -197,9 +198,11 @@ def run_samplers_command(args: argparse.Namespace) -> int:
         samplers.plot(trials, args.plot, f"mechanism {args.name}: generic vs learned samplers, "
                                          f"{args.instances} {args.split} instances x {args.runs} runs")
     if report:
+        # The options that shape the figures: the seeds, and the load the times were taken under.
         command = f"python -m pdsketch_mech.bench samplers {args.name} --instances {args.instances} " \
-                  f"--runs {args.runs} --timeout {args.timeout:g} --report"
-        png = samplers.add_to_report(trials, report, args.name, command)
+                  f"--runs {args.runs} --timeout {args.timeout:g}" + (f" --seed {args.seed}" if args.seed else "") \
+                  + (f" --workers {args.workers}" if args.workers > 1 else "") + " --report"
+        png = samplers.add_to_report(trials, report, args.name, command, checkout_commit())
         print(f"added the comparison to {report} ({png})")
     _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,
                                 "instances": args.instances, "runs": args.runs, "seed": args.seed,

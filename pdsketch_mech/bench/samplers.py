@@ -189,9 +189,10 @@ def report_of(fragment: str, name: str) -> str:
 REPORT_HEADING = "## Generic vs learned samplers on test instances (the paper's Fig. 8)"
 
 
-def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str) -> str:
+def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str, commit: str = "") -> str:
     """Put the comparison into a mechanism's learning report (NAME.samplers.md): the table,
-    and the per-sampler breakdown drawn beside it (NAME.samplers-fig8.png). A section written
+    and the per-sampler breakdown drawn beside it (NAME.samplers-fig8.png), with the command
+    and the commit (`checkout_commit`; "" when unknown) that made them. A section written
     before is replaced, the rest of the report kept. Returns the PNG's path."""
     from ..cli import write_text
     from .tables import render_markdown
@@ -203,7 +204,8 @@ def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str)
     with open(report, encoding="utf-8") as handle:
         text = handle.read()
     kept = text.split(REPORT_HEADING)[0].rstrip("\n")
-    section = (f"{REPORT_HEADING}\n\nMade by `{command}`: each run (an instance and a planner seed) planned with "
+    made = f"`{command}` at commit {commit}" if commit else f"`{command}`"
+    section = (f"{REPORT_HEADING}\n\nMade by {made}: each run (an instance and a planner seed) planned with "
                "the mechanism's generic "
                "samplers (Macro) and with the learned ones (Macro+Sampler); every solved plan replayed in a fresh "
                "process.\n\n" + render_markdown(header, cells, lines)
