@@ -520,7 +520,7 @@ def test_bench_samplers_report_needs_a_learned_sampler(tmp_path, capsys):
     assert "names no learned sampler for edge" in capsys.readouterr().err
 
 
-def test_bench_samplers_report_names_the_seed_load_and_commit_it_was_measured_at(tmp_path, monkeypatch, capsys):
+def test_bench_samplers_report_names_the_seed_load_and_commit_it_was_measured_at(tmp_path, monkeypatch):
     from pdsketch_mech.bench import samplers
     from pdsketch_mech.bench.__main__ import main
     text = open(os.path.join("domains", "mechanisms", "com.pddl"), encoding="utf-8").read()
