@@ -199,9 +199,12 @@ def run_samplers_command(args: argparse.Namespace) -> int:
                                          f"{args.instances} {args.split} instances x {args.runs} runs")
     if report:
         # The options that shape the figures: the seeds, and the load the times were taken under.
-        command = f"python -m pdsketch_mech.bench samplers {args.name} --instances {args.instances} " \
-                  f"--runs {args.runs} --timeout {args.timeout:g}" + (f" --seed {args.seed}" if args.seed else "") \
-                  + (f" --workers {args.workers}" if args.workers > 1 else "") + " --report"
+        options = [f"--instances {args.instances}", f"--runs {args.runs}", f"--timeout {args.timeout:g}"]
+        if args.seed:
+            options.append(f"--seed {args.seed}")
+        if args.workers > 1:
+            options.append(f"--workers {args.workers}")
+        command = " ".join([f"python -m pdsketch_mech.bench samplers {args.name}"] + options + ["--report"])
         png = samplers.add_to_report(trials, report, args.name, command, checkout_commit())
         print(f"added the comparison to {report} ({png})")
     _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,

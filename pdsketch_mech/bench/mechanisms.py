@@ -126,7 +126,7 @@ def table(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequen
     rows = []
     for m in methods:
         rows.append([f"{METHOD_TITLES[m]} (ours)"] + [format_cell(figures[c.task, m], timeout) for c in columns])
-        if any(figures[c.task, m] is not None and figures[c.task, m].planning is not None for c in columns):
+        if any(getattr(figures[c.task, m], "planning", None) is not None for c in columns):
             rows.append([f"{METHOD_TITLES[m]} (ours, planner alone)"] + [format_planning(figures[c.task, m])
                                                                         for c in columns])
         rows.append([f"{METHOD_TITLES[m]} (paper)"] + [paper_cell(c.paper[m]) for c in columns])

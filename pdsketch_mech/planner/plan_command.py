@@ -95,5 +95,5 @@ def summary(result: PlanResult) -> str:
     head = (f"solved: {len(result.steps)} steps" if result.status == "solved" else f"unsolved: {result.reason}")
     return (f"{head} in {result.time_s:.2f} s ({s['startup_s']:.2f} s start-up, {s['symbolic_s']:.2f} s "
             f"symbolic, {s['continuous_s']:.2f} s sampling and simulation); {s['skeletons']} skeletons, "
-            f"{s['executions']} executed steps, {s['sim_steps']} physics steps, {s['rejected']} refinements rejected by re-execution; "
-            f"samples: {samples}")
+            f"{s['executions']} executed steps, {s['sim_steps']} physics steps, "
+            f"{s['rejected']} refinements rejected by re-execution; samples: {samples}")
