@@ -121,7 +121,8 @@ def test_numpy_forward_pass_scores_as_torch_does():
     """Planning ranks with forward.py (no torch import); it must be the network training fitted."""
     from pdsketch_mech.samplers.learned.model import Batch, MechanismClassifiers
     torch.manual_seed(0)
-    specs = [ParamSpec("?c", "contact", (("?g", "grasp"), ("?t", "push")), 3, axes=True),
+    specs = [ParamSpec("?c", "contact", (("?g", "grasp"), ("?t", "push")), 3, axes=True, scaled=True),
+             ParamSpec("?g", "grasp", (), 2, scaled=True),
              ParamSpec("?k", "contact", (), 2),   # a checkpoint from before directions were turned
              ParamSpec("?p", "placement", (("?g", "grasp"),), 2, outputs=1)]
     model = MechanismClassifiers(specs, TINY)
@@ -175,6 +176,32 @@ def test_a_contacts_directions_are_seen_in_each_objects_frame():
                   torch.ones(1, 1, 3), poses)
     features = ParamClassifier(turned, TINY).object_inputs(batch)[0, 0]
     assert torch.allclose(features[-3:], torch.tensor([0.0, -1.0, 0.0]), atol=1e-6)   # along the object's -y
+
+
+def test_a_placement_is_also_seen_in_each_objects_half_extents():
+    """With `scaled`, a placement's position is given in each context object's frame divided
+    by its half-extents: the same spot on a plate resized 1.2x gives the same feature (a novel
+    variant is often a resized seen one), and older specs load without it."""
+    from pdsketch_mech.samplers.learned.model import Batch, ParamClassifier
+    from pdsketch_mech.samplers.learned.specs import object_features
+    scaled, old = ParamSpec("?p", "placement", (), 1, scaled=True), ParamSpec.from_json(
+        {"variable": "?p", "kind": "placement", "parents": [], "objects": 1, "outputs": 2})
+    assert not old.scaled and object_features(scaled) == object_features(old) + 3
+    assert ParamSpec.from_json(scaled.to_json()) == scaled
+    quarter = torch.tensor([0.0, 0.0, 0.5 ** 0.5, 0.5 ** 0.5])   # the plate turned 90 deg about z
+    poses = torch.cat([torch.tensor([0.5, 0.0, 0.0]), quarter]).view(1, 1, 7)
+
+    def features(half_extents, value_xyz):
+        value = torch.zeros(1, 7)
+        value[0, :3], value[0, 6] = torch.tensor(value_xyz), 1.0
+        batch = Batch(value, [], torch.zeros(1, 0), torch.zeros(1, 8, 3), torch.zeros(1, 1, dtype=torch.long),
+                      torch.tensor(half_extents).view(1, 1, 3), poses)
+        return ParamClassifier(scaled, TINY).object_inputs(batch)[0, 0, -3:]
+
+    small = features([0.10, 0.10, 0.01], [0.5, 0.08, 0.02])     # 8 cm along the plate's x
+    large = features([0.12, 0.12, 0.01], [0.5, 0.096, 0.02])    # the same spot on a 1.2x plate
+    assert torch.allclose(small, torch.tensor([0.8, 0.0, 2.0]), atol=1e-5)
+    assert torch.allclose(small, large, atol=1e-5)
 
 
 def test_checkpoint_round_trip_and_refusal(com_fragment, tmp_path):

@@ -109,7 +109,7 @@ def parent_specs(episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[str, ParamSp
                     kinds[str(ep["param"][p])] = row_kind(ep, p)
                     order[str(ep["param"][p])] = int(ep["param_index"][p])
     return {var: ParamSpec(var, kind, tuple((p, kinds[p]) for p in sorted(parents.get(var, ()), key=order.get)),
-                           objects, axes=True)
+                           objects, axes=True, scaled=True)
             for var, kind in sorted(kinds.items(), key=lambda kv: order[kv[0]])}
 
 

@@ -12,7 +12,7 @@ from typing import Dict, List, Mapping, Sequence, Tuple
 
 import numpy as np
 
-from .specs import POSE, SIZE, EncoderConfig, ParamSpec, framed_columns, width
+from .specs import MIN_HALF_EXTENT, POSE, SIZE, EncoderConfig, ParamSpec, framed_columns, scaled_columns, width
 
 Tensors = Mapping[str, np.ndarray]
 LAYER_NORM_EPS = 1e-5  # torch.nn.LayerNorm's default
@@ -114,6 +114,11 @@ class NumpyClassifier:
             for start, stop, is_point in framed_columns(self.spec):
                 columns = value[:, start:stop] - poses[m, :3] if is_point else value[:, start:stop]
                 inputs.append(rotate_inverse(poses[m, 3:], columns))
+            for start, stop, in_world in scaled_columns(self.spec):
+                columns = value[:, start:stop]
+                if in_world:
+                    columns = rotate_inverse(poses[m, 3:], columns - poses[m, :3])
+                inputs.append(columns / np.maximum(sizes[m], MIN_HALF_EXTENT))
             features = layers.standardise(f"object_norm.{m}", np.concatenate(inputs, -1))
             parts.append(layers.mlp(f"objects.{m}", np.concatenate([np.broadcast_to(shapes[m], (rows, len(shapes[m]))),
                                                                     features], -1)))

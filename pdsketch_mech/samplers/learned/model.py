@@ -27,7 +27,8 @@ import torch
 from torch import nn
 
 from .pointnet import PointNetEncoder
-from .specs import HIDDEN, SHAPE_PROJECTION, EncoderConfig, ParamSpec, framed_columns, object_features, width
+from .specs import (HIDDEN, MIN_HALF_EXTENT, SHAPE_PROJECTION, EncoderConfig, ParamSpec, framed_columns,
+                    object_features, scaled_columns, width)
 
 
 @dataclass
@@ -99,13 +100,19 @@ class ParamClassifier(nn.Module):
             self.register_buffer("prior_shift", torch.zeros(spec.outputs))
 
     def object_inputs(self, batch: Batch) -> torch.Tensor:
-        """(B, M, `object_features`): each object's pose and size, and the value's positions
-        (and, with `axes`, directions) in that object's frame."""
+        """(B, M, `object_features`): each object's pose and size, the value's positions (and,
+        with `axes`, directions) in that object's frame, and (with `scaled`) its positions in
+        that object's half-extents."""
         poses = batch.poses
         parts = [poses, batch.sizes]
         for start, stop, is_point in framed_columns(self.spec):
             columns = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
             parts.append(quat_rotate_inverse(poses[..., 3:], columns - poses[..., :3] if is_point else columns))
+        for start, stop, in_world in scaled_columns(self.spec):
+            columns = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
+            if in_world:
+                columns = quat_rotate_inverse(poses[..., 3:], columns - poses[..., :3])
+            parts.append(columns / batch.sizes.clamp_min(MIN_HALF_EXTENT))
         return torch.cat(parts, dim=-1)
 
     def fit_statistics(self, batch: Batch) -> None:

@@ -26,6 +26,17 @@ ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
 # relative to the tunnel around the block, not relative to the room. Checkpoints older than
 # this have no `axes` and read only the anchors.
 AXES: Dict[str, Tuple[Tuple[int, int], ...]] = {"contact": ((10, 13), (13, 16))}
+# Columns that are positions, read by classifiers whose spec says `scaled` also divided by each
+# object's half-extents, (start, stop, in the world frame): where a placement lands on the plate
+# as a fraction of the plate's radius, where a grasp holds a tool as a fraction of its length.
+# A test instance's novel variant is often the seen one resized (a 24 cm plate where self-play
+# had 20 and 22 cm), and in object-relative units it is the same instance again. A grasp is
+# already in its object's frame.
+SCALED: Dict[str, Tuple[Tuple[int, int, bool], ...]] = {
+    "grasp": ((0, 3, False),), "placement": ((0, 3, True),), "contact": ((0, 3, True), (7, 10, True)),
+    "trajectory": ((7, 10, True),), "push": (),
+}
+MIN_HALF_EXTENT = 0.005  # metres: a flat object's thin axis must not blow a position up
 
 
 def framed_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
@@ -36,9 +47,16 @@ def framed_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
     return points + (tuple((start, stop, False) for start, stop in AXES.get(spec.kind, ())) if spec.axes else ())
 
 
+def scaled_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
+    """The value's positions divided by each context object's half-extents (SCALED), when the
+    spec says `scaled`: (start, stop, in the world frame, so first put in the object's frame)."""
+    return SCALED[spec.kind] if spec.scaled else ()
+
+
 def object_features(spec: "ParamSpec") -> int:
-    """Per context object: pose, size, and the value's `framed_columns` in that object's frame."""
-    return POSE + SIZE + 3 * len(framed_columns(spec))
+    """Per context object: pose, size, the value's `framed_columns` in that object's frame, and
+    its `scaled_columns` in that object's half-extents."""
+    return POSE + SIZE + 3 * len(framed_columns(spec)) + 3 * len(scaled_columns(spec))
 
 
 def width(kind: str) -> int:
@@ -56,15 +74,17 @@ class ParamSpec:
     objects: int
     outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
     axes: bool = False  # the value's directions in each object's frame too (AXES)
+    scaled: bool = False  # the value's positions in each object's half-extents too (SCALED)
 
     def to_json(self) -> dict:
         return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
-                "objects": self.objects, "outputs": self.outputs, "axes": self.axes}
+                "objects": self.objects, "outputs": self.outputs, "axes": self.axes,
+                "scaled": self.scaled}
 
     @classmethod
     def from_json(cls, data: dict) -> "ParamSpec":
         return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]),
-                   int(data.get("outputs", 1)), bool(data.get("axes", False)))
+                   int(data.get("outputs", 1)), bool(data.get("axes", False)), bool(data.get("scaled", False)))
 
 
 @dataclass(frozen=True)
