@@ -111,13 +111,13 @@ class NumpyClassifier:
         parts: List[np.ndarray] = []
         for m in range(self.spec.objects):
             inputs = [np.broadcast_to(poses[m], (rows, POSE)), np.broadcast_to(sizes[m], (rows, SIZE))]
+            framed = {}
             for start, stop, is_point in framed_columns(self.spec):
                 columns = value[:, start:stop] - poses[m, :3] if is_point else value[:, start:stop]
-                inputs.append(rotate_inverse(poses[m, 3:], columns))
-            for start, stop, in_world in scaled_columns(self.spec):
-                columns = value[:, start:stop]
-                if in_world:
-                    columns = rotate_inverse(poses[m, 3:], columns - poses[m, :3])
+                framed[start, stop] = rotate_inverse(poses[m, 3:], columns)
+                inputs.append(framed[start, stop])
+            for start, stop, is_framed in scaled_columns(self.spec):
+                columns = framed[start, stop] if is_framed else value[:, start:stop]
                 inputs.append(columns / np.maximum(sizes[m], MIN_HALF_EXTENT))
             features = layers.standardise(f"object_norm.{m}", np.concatenate(inputs, -1))
             parts.append(layers.mlp(f"objects.{m}", np.concatenate([np.broadcast_to(shapes[m], (rows, len(shapes[m]))),

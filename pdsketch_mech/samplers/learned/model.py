@@ -105,13 +105,13 @@ class ParamClassifier(nn.Module):
         that object's half-extents."""
         poses = batch.poses
         parts = [poses, batch.sizes]
+        framed = {}
         for start, stop, is_point in framed_columns(self.spec):
             columns = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
-            parts.append(quat_rotate_inverse(poses[..., 3:], columns - poses[..., :3] if is_point else columns))
-        for start, stop, in_world in scaled_columns(self.spec):
-            columns = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
-            if in_world:
-                columns = quat_rotate_inverse(poses[..., 3:], columns - poses[..., :3])
+            framed[start, stop] = quat_rotate_inverse(poses[..., 3:], columns - poses[..., :3] if is_point else columns)
+            parts.append(framed[start, stop])
+        for start, stop, is_framed in scaled_columns(self.spec):
+            columns = framed[start, stop] if is_framed else batch.value[:, None, start:stop]
             parts.append(columns / batch.sizes.clamp_min(MIN_HALF_EXTENT))
         return torch.cat(parts, dim=-1)
 

@@ -26,16 +26,13 @@ ANCHORS: Dict[str, Tuple[Tuple[int, int], ...]] = {
 # relative to the tunnel around the block, not relative to the room. Checkpoints older than
 # this have no `axes` and read only the anchors.
 AXES: Dict[str, Tuple[Tuple[int, int], ...]] = {"contact": ((10, 13), (13, 16))}
-# Columns that are positions, read by classifiers whose spec says `scaled` also divided by each
-# object's half-extents, (start, stop, in the world frame): where a placement lands on the plate
-# as a fraction of the plate's radius, where a grasp holds a tool as a fraction of its length.
-# A test instance's novel variant is often the seen one resized (a 24 cm plate where self-play
-# had 20 and 22 cm), and in object-relative units it is the same instance again. A grasp is
-# already in its object's frame.
-SCALED: Dict[str, Tuple[Tuple[int, int, bool], ...]] = {
-    "grasp": ((0, 3, False),), "placement": ((0, 3, True),), "contact": ((0, 3, True), (7, 10, True)),
-    "trajectory": ((7, 10, True),), "push": (),
-}
+# With `scaled`, a classifier also reads the value's positions divided by each object's
+# half-extents: the anchors (in that object's frame) and a grasp's position (in its object's
+# frame already): where a placement lands on the plate as a fraction of the plate's radius,
+# where a grasp holds a tool as a fraction of its length. A test instance's novel variant is
+# often the seen one resized (a 24 cm plate where self-play had 20 and 22 cm), and in
+# object-relative units it is the same instance again.
+OWN_FRAME_POSITIONS: Dict[str, Tuple[Tuple[int, int], ...]] = {"grasp": ((0, 3),)}
 MIN_HALF_EXTENT = 0.005  # metres: a flat object's thin axis must not blow a position up
 
 
@@ -48,9 +45,13 @@ def framed_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
 
 
 def scaled_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
-    """The value's positions divided by each context object's half-extents (SCALED), when the
-    spec says `scaled`: (start, stop, in the world frame, so first put in the object's frame)."""
-    return SCALED[spec.kind] if spec.scaled else ()
+    """The value's positions divided by each context object's half-extents, when the spec says
+    `scaled`: (start, stop, framed), framed for an anchor (read in the object's frame first,
+    as `framed_columns` has it), not for a position already in its object's frame."""
+    if not spec.scaled:
+        return ()
+    return (tuple((start, stop, True) for start, stop in ANCHORS[spec.kind])
+            + tuple((start, stop, False) for start, stop in OWN_FRAME_POSITIONS.get(spec.kind, ())))
 
 
 def object_features(spec: "ParamSpec") -> int:
@@ -74,7 +75,7 @@ class ParamSpec:
     objects: int
     outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
     axes: bool = False  # the value's directions in each object's frame too (AXES)
-    scaled: bool = False  # the value's positions in each object's half-extents too (SCALED)
+    scaled: bool = False  # the value's positions in each object's half-extents too (scaled_columns)
 
     def to_json(self) -> dict:
         return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
