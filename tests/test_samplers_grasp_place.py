@@ -153,6 +153,24 @@ def test_grasp_proposals_draw_antipodal_pairs_from_one_pool_per_shape():
         assert np.array_equal(p1s, [pair[0] for pair in expected]) and np.array_equal(p2s, [pair[2] for pair in expected])
 
 
+def test_grasp_proposals_in_one_scene_share_the_rays_cast_under_the_gripper():
+    """A learned sampler fills its batch with several calls in one scene: the support heights
+    the first call cast are the later calls' too, and give the same grasps as casting anew;
+    once something moves they are cast again."""
+    import pdsketch_mech.samplers.grasp as grasp
+    with table_world(("plate", "plate/1", 0.5, 0.0), ("block", "block/0", 0.45, 0.25)) as world:
+        first = list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
+        (heights,) = [h for _, h in grasp._HEIGHTS[world].values()]
+        rays = heights.rays
+        again = list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
+        assert rays > 0 and heights.rays == rays and first and again == first
+        grasp._HEIGHTS[world].clear()
+        assert list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120)) == first
+        world.set_pose("block", ((0.4, 0.25, world.pose("block")[0][2]), world.pose("block")[1]))
+        list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
+        assert len(grasp._HEIGHTS[world]) == 2
+
+
 def test_same_seed_gives_the_same_grasps():
     with table_world(("block", "block/0", 0.5, 0.0)) as world:
         runs = [[g for g, _ in zip(sample_grasps(world, "block", np.random.default_rng(7)), range(2))]

@@ -16,13 +16,13 @@ import math
 import os
 import re
 import sys
-import tempfile
 from typing import Callable, Iterator, List, Tuple, Union
 
 import lark
 from lark import Lark, Token, Transformer_NonRecursive, v_args
 from lark.exceptions import UnexpectedInput, VisitError
 
+from ..disk_cache import entry_path, store
 from .errors import PddlError, did_you_mean
 from .nodes import (
     Action, ActionCall, And, Atom, Const, Domain, Equals, Exists, Forall, Imply, Loc, Mechanism,
@@ -51,23 +51,14 @@ def _lark() -> Lark:
     with open(_GRAMMAR, encoding="utf-8") as handle:
         grammar = handle.read()
     key = hashlib.sha256(f"{grammar}{lark.__version__}{sorted(_OPTIONS.items())}".encode()).hexdigest()[:16]
-    cache_dir = os.environ.get("PDSKETCH_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "pdsketch_mech")
-    path = os.path.join(cache_dir, f"grammar-{key}.lark")
+    name = f"grammar-{key}.lark"
     try:
-        with open(path, "rb") as handle:
+        with open(entry_path(name), "rb") as handle:
             return Lark.load(handle)
     except Exception:  # missing, stale or unreadable cache: rebuild below
         pass
     parser = Lark(grammar, **_OPTIONS)
-    try:
-        os.makedirs(cache_dir, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=cache_dir, suffix=".tmp")
-        with os.fdopen(fd, "wb") as handle:
-            parser.save(handle)
-        os.replace(tmp, path)
-    except OSError:  # a read-only home is fine: we just rebuild next time
-        pass
+    store(name, parser.save)  # a read-only home is fine: we just rebuild next time
     return parser
 
 

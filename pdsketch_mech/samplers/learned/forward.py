@@ -79,6 +79,26 @@ def ball_query(xyz: np.ndarray, centres: np.ndarray, radius: float, k: int) -> n
     return np.where(outside, near[:, :1], near)
 
 
+def groupings(cloud: np.ndarray, encoder: EncoderConfig) -> List[Tuple[np.ndarray, np.ndarray]]:
+    """Per set-abstraction level, the neighbours' indices (M, k) and the centres (M, 3): they
+    depend on the cloud and the encoder's layout only, not on weights, so a shape read by
+    several classifiers (one per parameter) is grouped once (most of an embedding's time)."""
+    key = (cloud.shape, cloud.dtype.str, cloud.tobytes(), encoder.centres, encoder.radii, encoder.neighbours)
+    if key not in _GROUPINGS:
+        if len(_GROUPINGS) >= 64:
+            del _GROUPINGS[next(iter(_GROUPINGS))]
+        xyz, levels = cloud.astype(np.float64), []
+        for centres, radius in zip(encoder.centres, encoder.radii):
+            centre = xyz[farthest_points(xyz, min(centres, len(xyz)))]
+            levels.append((ball_query(xyz, centre, radius, encoder.neighbours), centre))
+            xyz = centre
+        _GROUPINGS[key] = levels
+    return _GROUPINGS[key]
+
+
+_GROUPINGS: Dict[tuple, List[Tuple[np.ndarray, np.ndarray]]] = {}
+
+
 class NumpyClassifier:
     """One parameter's classifier (model.ParamClassifier) as numpy arrays."""
 
@@ -88,18 +108,16 @@ class NumpyClassifier:
 
     def shape_vector(self, cloud: np.ndarray) -> np.ndarray:
         """(SHAPE_PROJECTION,) embedding of one unit cloud (N, 3)."""
-        c, layers = self.encoder, self.layers
-        xyz, features = cloud.astype(np.float64), None
-        for level, (centres, radius, widths) in enumerate(zip(c.centres, c.radii, (c.widths1, c.widths2))):
-            index = farthest_points(xyz, min(centres, len(xyz)))
-            centre = xyz[index]
-            group = ball_query(xyz, centre, radius, c.neighbours)
+        layers, features = self.layers, None
+        levels = groupings(cloud, self.encoder)
+        for level, (group, centre) in enumerate(levels):
+            xyz = levels[level - 1][1] if level else cloud.astype(np.float64)
             local = xyz[group] - centre[:, None, :]
             if features is not None:
                 local = np.concatenate([local, features[group]], -1)
+            widths = (self.encoder.widths1, self.encoder.widths2)[level]
             features = layers.shared_mlp(f"shape.sa{level + 1}.mlp", local, len(widths)).max(axis=1)
-            xyz = centre
-        pooled = layers.shared_mlp("shape.glob", np.concatenate([xyz, features], -1), 1).max(axis=0)
+        pooled = layers.shared_mlp("shape.glob", np.concatenate([levels[-1][1], features], -1), 1).max(axis=0)
         return layers.linear("shape_projection", pooled)
 
     def log_score(self, value: np.ndarray, parents: Sequence[np.ndarray], present: np.ndarray,

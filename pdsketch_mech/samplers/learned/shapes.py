@@ -3,35 +3,88 @@
 A cloud is drawn once per asset (URDF) from its solid with trimesh, seeded by the file's
 name, centred on its bounding box and scaled into the unit sphere (the encoder sees form, not
 size); the size is given separately (`size_features`): the scaled half-extents.
+
+Both are kept on disk (disk_cache.py) under a hash of the asset's files and the libraries
+that draw them. Drawing needs the union of the asset's convex parts at scale 1, ~30-60 ms
+for a plate or a table, and each plan is a new process: on Center-of-Mass, whose plans take
+a second, it was most of what the learned samplers added to a plan's time.
 """
 from __future__ import annotations
 
+import io
 import os
 import zlib
 from functools import lru_cache
-from typing import Tuple
+from importlib import metadata
+from typing import List, Tuple
+from xml.etree import ElementTree
 
 import numpy as np
 
+from ...disk_cache import content_key, entry_path, store
 from ..geometry import sample_surface, solid_mesh
 
 CLOUD_POINTS = 256
+FORMAT = "unit-cloud/1"   # change when the drawing below changes: older entries are then not read
+
+
+def unit_cloud(urdf: str, points: int = CLOUD_POINTS) -> np.ndarray:
+    """(points, 3) float32 surface points of the asset, centred and inside the unit sphere."""
+    return _shape(urdf, points)[0]
+
+
+def size_features(urdf: str, scale: float) -> Tuple[float, float, float]:
+    """The asset's half-extents at `scale` (metres)."""
+    return tuple(float(v) * scale for v in _shape(urdf, CLOUD_POINTS)[1])
 
 
 @lru_cache(maxsize=128)
-def unit_cloud(urdf: str, points: int = CLOUD_POINTS) -> np.ndarray:
-    """(points, 3) float32 surface points of the asset, centred and inside the unit sphere."""
+def _shape(urdf: str, points: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(the unit cloud, the half-extents at scale 1), from the disk cache when there."""
+    name = os.path.join("clouds", content_key(_derived_from(urdf, points)) + ".npz")
+    try:
+        with np.load(entry_path(name), allow_pickle=False) as entry:
+            cloud, half = entry["cloud"], entry["half_extents"]
+        if cloud.shape == (points, 3) and cloud.dtype == np.float32 and half.shape == (3,):
+            return cloud, half
+    except (OSError, ValueError, KeyError, EOFError, zlib.error):  # missing or damaged: draw it again
+        pass
+    cloud, half = _draw(urdf, points)
+    buffer = io.BytesIO()
+    np.savez(buffer, cloud=cloud, half_extents=half)
+    store(name, lambda handle: handle.write(buffer.getvalue()))
+    return cloud, half
+
+
+def _draw(urdf: str, points: int) -> Tuple[np.ndarray, np.ndarray]:
     mesh = solid_mesh(urdf, 1.0)
-    seed = zlib.crc32(os.path.relpath(urdf, os.path.dirname(os.path.dirname(os.path.dirname(urdf)))).encode())
-    cloud, _ = sample_surface(mesh, points, np.random.default_rng(seed))
+    cloud, _ = sample_surface(mesh, points, np.random.default_rng(_seed(urdf)))
     lo, hi = mesh.bounds
     cloud = cloud - (lo + hi) / 2.0
     radius = float(np.linalg.norm(cloud, axis=1).max()) or 1.0
-    return (cloud / radius).astype(np.float32)
+    return (cloud / radius).astype(np.float32), np.asarray((hi - lo) / 2.0, dtype=np.float64)
 
 
-@lru_cache(maxsize=512)
-def size_features(urdf: str, scale: float) -> Tuple[float, float, float]:
-    """The asset's half-extents at `scale` (metres)."""
-    lo, hi = solid_mesh(urdf, 1.0).bounds
-    return tuple(float(v) for v in (hi - lo) / 2.0 * scale)
+def _seed(urdf: str) -> int:
+    """The asset's name as the file's last two folders and its name give it (`block/2/...`):
+    the same cloud wherever the assets folder lies."""
+    return zlib.crc32(os.path.relpath(urdf, os.path.dirname(os.path.dirname(os.path.dirname(urdf)))).encode())
+
+
+def _derived_from(urdf: str, points: int) -> List[object]:
+    """Everything a cloud depends on: the drawing, its seed, the URDF and its mesh files, and
+    the libraries that read and unite the meshes."""
+    parts: List[object] = [FORMAT, str(points), str(_seed(urdf)), _read(urdf)]
+    for mesh in ElementTree.parse(urdf).getroot().iter("mesh"):
+        parts.append(_read(os.path.join(os.path.dirname(urdf), mesh.get("filename", ""))))
+    for library in ("trimesh", "manifold3d", "numpy"):
+        try:
+            parts.append(f"{library} {metadata.version(library)}")
+        except metadata.PackageNotFoundError:
+            parts.append(f"{library} -")
+    return parts
+
+
+def _read(path: str) -> bytes:
+    with open(path, "rb") as handle:
+        return handle.read()
