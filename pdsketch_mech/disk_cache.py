@@ -10,9 +10,13 @@ be written (a read-only home) only costs the work again: nothing here raises OSE
 from __future__ import annotations
 
 import hashlib
+import io
 import os
 import tempfile
-from typing import Callable, Iterable, Optional, Union
+import zlib
+from typing import Callable, Dict, Iterable, Optional, Union
+
+import numpy as np
 
 
 def cache_dir() -> str:
@@ -55,3 +59,29 @@ def store(name: str, write: Callable[[object], None]) -> Optional[str]:
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def load_arrays(name: str) -> Optional[Dict[str, np.ndarray]]:
+    """The arrays of the entry `name` (an .npz written by `store_arrays`), or None when it is
+    missing or damaged. Never unpickles: an entry is data only."""
+    try:
+        with np.load(entry_path(name), allow_pickle=False) as entry:
+            return {key: entry[key] for key in entry.files}
+    except (OSError, ValueError, KeyError, EOFError, zlib.error):
+        return None
+
+
+def store_arrays(name: str, **arrays: np.ndarray) -> Optional[str]:
+    """Write `arrays` as the entry `name` (.npz, atomically); its path, or None (`store`)."""
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    return store(name, lambda handle: handle.write(buffer.getvalue()))
+
+
+def file_digest(path: str) -> str:
+    """sha256 of a file's content (e.g. a checkpoint whose derived values are cached)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()

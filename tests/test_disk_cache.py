@@ -74,7 +74,7 @@ def test_an_asset_whose_mesh_changed_gets_a_new_cloud(cache, tmp_path):
     before = shapes.size_features(urdf, 1.0)
     for mesh in copy.glob("*.obj"):                   # the same block, twice as long in x
         mesh.write_text("".join(stretched(line) + "\n" for line in mesh.read_text().splitlines()))
-    for remembered in (shapes._shape, geometry.solid_mesh, geometry.urdf_mesh):   # as a new process
+    for remembered in (shapes._shape, shapes.cloud_key, geometry.solid_mesh, geometry.urdf_mesh):   # as a new process
         remembered.cache_clear()
     assert shapes.size_features(urdf, 1.0)[0] == pytest.approx(2 * before[0])
     assert len(entries(cache)) == 2
@@ -107,3 +107,20 @@ def test_a_shape_read_by_several_classifiers_is_grouped_once(monkeypatch):
     assert groupings(cloud.copy(), encoder) is first
     with pytest.raises(AssertionError):
         groupings(cloud + 1.0, encoder)              # another shape is grouped anew
+
+
+def test_a_classifiers_embedding_of_a_shape_is_read_back_under_its_weights_name(cache, monkeypatch):
+    from pdsketch_mech.lang.loader import load_domain
+    from pdsketch_mech.samplers.learned import forward
+    from pdsketch_mech.samplers.learned.ranked import load_learned
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    loaded = load_domain([os.path.join(root, "domains", "basis.pddl"), os.path.join(root, "domains", "mechanisms", "com.pddl")])
+    learned = load_learned(loaded.domain.mechanisms)["com"]
+    urdf = resolve_asset("plate/2")
+    embedding = learned._embedding("?p", urdf)
+    np.testing.assert_array_equal(embedding, learned.model.classifier("?p").shape_vector(shapes.unit_cloud(urdf)))
+    monkeypatch.setattr(forward.NumpyClassifier, "shape_vector", never_draw)
+    np.testing.assert_array_equal(learned._embedding("?p", urdf), embedding)
+    learned.digest = "other weights"                 # another checkpoint embeds the shape anew
+    with pytest.raises(AssertionError):
+        learned._embedding("?p", urdf)

@@ -11,7 +11,6 @@ a second, it was most of what the learned samplers added to a plan's time.
 """
 from __future__ import annotations
 
-import io
 import os
 import zlib
 from functools import lru_cache
@@ -21,7 +20,7 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from ...disk_cache import content_key, entry_path, store
+from ...disk_cache import content_key, load_arrays, store_arrays
 from ..geometry import sample_surface, solid_mesh
 
 CLOUD_POINTS = 256
@@ -41,19 +40,22 @@ def size_features(urdf: str, scale: float) -> Tuple[float, float, float]:
 @lru_cache(maxsize=128)
 def _shape(urdf: str, points: int) -> Tuple[np.ndarray, np.ndarray]:
     """(the unit cloud, the half-extents at scale 1), from the disk cache when there."""
-    name = os.path.join("clouds", content_key(_derived_from(urdf, points)) + ".npz")
-    try:
-        with np.load(entry_path(name), allow_pickle=False) as entry:
-            cloud, half = entry["cloud"], entry["half_extents"]
+    name = os.path.join("clouds", cloud_key(urdf, points) + ".npz")
+    entry = load_arrays(name)
+    if entry is not None and set(entry) == {"cloud", "half_extents"}:
+        cloud, half = entry["cloud"], entry["half_extents"]
         if cloud.shape == (points, 3) and cloud.dtype == np.float32 and half.shape == (3,):
             return cloud, half
-    except (OSError, ValueError, KeyError, EOFError, zlib.error):  # missing or damaged: draw it again
-        pass
     cloud, half = _draw(urdf, points)
-    buffer = io.BytesIO()
-    np.savez(buffer, cloud=cloud, half_extents=half)
-    store(name, lambda handle: handle.write(buffer.getvalue()))
+    store_arrays(name, cloud=cloud, half_extents=half)
     return cloud, half
+
+
+@lru_cache(maxsize=128)
+def cloud_key(urdf: str, points: int = CLOUD_POINTS) -> str:
+    """A name for the asset's cloud that changes whenever the cloud would (what is derived
+    from the cloud, e.g. a classifier's embedding of it, is cached under it too)."""
+    return content_key(_derived_from(urdf, points))
 
 
 def _draw(urdf: str, points: int) -> Tuple[np.ndarray, np.ndarray]:
@@ -77,12 +79,19 @@ def _derived_from(urdf: str, points: int) -> List[object]:
     parts: List[object] = [FORMAT, str(points), str(_seed(urdf)), _read(urdf)]
     for mesh in ElementTree.parse(urdf).getroot().iter("mesh"):
         parts.append(_read(os.path.join(os.path.dirname(urdf), mesh.get("filename", ""))))
+    return parts + list(_libraries())
+
+
+@lru_cache(maxsize=1)
+def _libraries() -> Tuple[str, ...]:
+    """The versions of the libraries that read, unite and sample meshes."""
+    out = []
     for library in ("trimesh", "manifold3d", "numpy"):
         try:
-            parts.append(f"{library} {metadata.version(library)}")
+            out.append(f"{library} {metadata.version(library)}")
         except metadata.PackageNotFoundError:
-            parts.append(f"{library} -")
-    return parts
+            out.append(f"{library} -")
+    return tuple(out)
 
 
 def _read(path: str) -> bytes:
