@@ -592,9 +592,10 @@ def test_planning_with_learned_samplers_does_not_import_torch():
     assert out.stdout.strip() == "False"
 
 
-def test_scoring_time_leaves_out_embedding_a_new_shape(monkeypatch):
+def test_scoring_time_leaves_out_embedding_a_new_shape(monkeypatch, tmp_path):
     """`score_ms` times a batch (encoding proposals, the forward pass); embedding a shape the
     plan scores for the first time is timed apart (`shape_ms`), once per shape."""
+    monkeypatch.setenv("PDSKETCH_CACHE", str(tmp_path))   # no embedding kept from before
     import time
     from pdsketch_mech.envs.generate import sample
     from pdsketch_mech.envs.tasks import TASKS
