@@ -1,4 +1,7 @@
 """The generic grasp and placement samplers: what they yield meets their definitions."""
+import gc
+import weakref
+
 import numpy as np
 import pytest
 import pybullet as p
@@ -169,6 +172,10 @@ def test_grasp_proposals_in_one_scene_share_the_rays_cast_under_the_gripper():
         world.set_pose("block", ((0.4, 0.25, world.pose("block")[0][2]), world.pose("block")[1]))
         list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
         assert len(grasp._HEIGHTS[world]) == 2
+    released = weakref.ref(world)   # what is kept per world does not keep the world alive
+    del world, heights
+    gc.collect()
+    assert released() is None
 
 
 def test_same_seed_gives_the_same_grasps():

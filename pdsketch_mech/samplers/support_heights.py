@@ -32,7 +32,7 @@ class SupportHeights:
     meets them first sees no support there, as a single ray would). Valid while nothing moves."""
 
     def __init__(self, world: "World", obj: str, bottom: float, reach: float):
-        self.world, self.bottom = world, bottom
+        self.client, self.bottom = world.client, bottom   # not the world: grasp.py keeps these per world, weakly
         self.ignore = {world.bodies[obj].id, world.robot, -1}
         lo, hi = p.getAABB(world.bodies[obj].id, physicsClientId=world.client)
         self.origin = np.array(lo[:2]) - reach - GRID
@@ -65,7 +65,7 @@ class SupportHeights:
         found = np.full(len(todo), -np.inf)
         for start in range(0, len(todo), RAYS_PER_BATCH):
             hits = p.rayTestBatch(starts[start:start + RAYS_PER_BATCH].tolist(),
-                                  ends[start:start + RAYS_PER_BATCH].tolist(), physicsClientId=self.world.client)
+                                  ends[start:start + RAYS_PER_BATCH].tolist(), physicsClientId=self.client)
             found[start:start + len(hits)] = list(_support_z(hits, self.ignore))
         self.heights.flat[todo] = found
         self.rays += len(todo)

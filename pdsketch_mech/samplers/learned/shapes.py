@@ -15,7 +15,7 @@ import os
 import zlib
 from functools import lru_cache
 from importlib import metadata
-from typing import List, Tuple
+from typing import List, Tuple, Union
 from xml.etree import ElementTree
 
 import numpy as np
@@ -73,10 +73,10 @@ def _seed(urdf: str) -> int:
     return zlib.crc32(os.path.relpath(urdf, os.path.dirname(os.path.dirname(os.path.dirname(urdf)))).encode())
 
 
-def _derived_from(urdf: str, points: int) -> List[object]:
+def _derived_from(urdf: str, points: int) -> List[Union[str, bytes]]:
     """Everything a cloud depends on: the drawing, its seed, the URDF and its mesh files, and
     the libraries that read and unite the meshes."""
-    parts: List[object] = [FORMAT, str(points), str(_seed(urdf)), _read(urdf)]
+    parts: List[Union[str, bytes]] = [FORMAT, str(points), str(_seed(urdf)), _read(urdf)]
     for mesh in ElementTree.parse(urdf).getroot().iter("mesh"):
         parts.append(_read(os.path.join(os.path.dirname(urdf), mesh.get("filename", ""))))
     return parts + list(_libraries())
