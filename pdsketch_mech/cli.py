@@ -205,6 +205,18 @@ def atomic_file(path: str, binary: bool = False, suffix: str = ".tmp") -> Iterat
         raise
 
 
+def progress_bar(**options: Any) -> Any:
+    """A tqdm bar on stderr. Into a log file (not a terminal) it redraws every LOG_INTERVAL
+    seconds rather than ten times a second: each redraw is another copy of the bar there."""
+    from tqdm import tqdm
+    if not sys.stderr.isatty():
+        options.setdefault("mininterval", LOG_INTERVAL)
+    return tqdm(file=sys.stderr, **options)
+
+
+LOG_INTERVAL = 30.0
+
+
 def write_text(path: str, text: str) -> None:
     """Write `text` to `path` atomically (`atomic_file`)."""
     with atomic_file(path) as handle:
@@ -219,7 +231,8 @@ def write_json(path: str, document: Any) -> None:
 
 
 def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: int,
-                    plan: List[Dict[str, Any]], stats: Dict[str, Any]) -> None:
-    """The `plan --json` document of DESIGN.md, for classical and manipulation plans alike."""
+                    plan: List[Dict[str, Any]], stats: Dict[str, Any], problem: str) -> None:
+    """The `plan --json` document of DESIGN.md, for classical and manipulation plans alike;
+    `problem` (its name) lets replay refuse the plan for another problem."""
     write_json(path, {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
-                      "plan": plan, "stats": stats})
+                      "problem": problem, "plan": plan, "stats": stats})

@@ -44,7 +44,8 @@ import time
 from typing import List, Optional, Sequence
 
 from .cli import (
-    EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, run_and_exit, seconds, seed, whole, write_text,
+    EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, progress_bar, run_and_exit, seconds, seed, whole,
+    write_text,
 )
 from .lang.errors import PddlError
 
@@ -114,19 +115,35 @@ def _selfplay_options() -> ArgumentParser:
     return play
 
 
-def _command_line(demo: str, name: str, out: str, default_out: str) -> str:
-    """How to re-run this extraction, with paths relative to the repository when inside it."""
+def _shown(path: str) -> str:
+    """A path as a command to re-run names it: relative to the repository when inside it."""
     from .learning.extract import REPO_ROOT
+    full = os.path.abspath(path)
+    inside = os.path.commonpath([full, REPO_ROOT]) == REPO_ROOT
+    return os.path.relpath(full, REPO_ROOT) if inside else full
 
-    def rel(path: str) -> str:
-        full = os.path.abspath(path)
-        inside = os.path.commonpath([full, REPO_ROOT]) == REPO_ROOT
-        return os.path.relpath(full, REPO_ROOT) if inside else full
 
-    words = ["python -m pdsketch_mech.learn extract", rel(demo), "--name", name]
+def _command_line(demo: str, name: str, out: str, default_out: str) -> str:
+    """How to re-run this extraction."""
+    words = ["python -m pdsketch_mech.learn extract", _shown(demo), "--name", name]
     if os.path.abspath(out) != os.path.abspath(default_out):
-        words += ["--out", rel(out)]
+        words += ["--out", _shown(out)]
     return " ".join(words)
+
+
+def _inputs(args, config, out: str) -> List[str]:
+    """The options of a self-play or training command that name other inputs than the
+    defaults (a fragment, a task, a data folder): re-running the command without them would
+    read, or write, the repository's own."""
+    from .learning.selfplay import default_fragment
+    words: List[str] = []
+    if os.path.abspath(default_fragment(args.name)) != os.path.abspath(config.fragment):
+        words += ["--fragment", _shown(config.fragment)]
+    if args.task is not None:
+        words += ["--task", config.task]
+    if args.out is not None:
+        words += ["--out", _shown(out)]
+    return words
 
 
 def extract_command(args) -> int:
@@ -287,7 +304,7 @@ def train_command(args) -> int:
                         "--seed", str(args.seed), "--budget", str(args.budget)]
                        + (["--epochs", str(args.epochs)] if args.epochs is not None else [])
                        + (["--grounding", args.grounding] if args.grounding != "goal" else [])
-                       + (["--context", str(args.context)] if args.context else []))
+                       + (["--context", str(args.context)] if args.context else []) + _inputs(args, config, out))
     info = {"command": command, "task": config.task, "seconds_selfplay": selfplay_s}
     try:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
@@ -354,8 +371,6 @@ def _prepare_selfplay(args):
 
 
 def _selfplay(args, config, out: str) -> int:
-    from tqdm import tqdm
-
     from .learning.selfplay_run import pending, run_selfplay
 
     start = time.perf_counter()
@@ -365,8 +380,8 @@ def _selfplay(args, config, out: str) -> int:
                         "--seed", str(args.seed), "--budget", str(args.budget)]
                        + (["--split", config.split] if config.split != "train" else [])
                        + (["--grounding", config.grounding] if config.grounding != "goal" else [])
-                       + (["--context", str(config.context)] if config.context else []))
-    with tqdm(total=todo, file=sys.stderr, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}") as bar:
+                       + (["--context", str(config.context)] if config.context else []) + _inputs(args, config, out))
+    with progress_bar(total=todo, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}") as bar:
         def progress(row) -> None:
             counts["successes"] += row["success"]
             counts["samples"] += row["samples"]

@@ -91,7 +91,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             write_plan_json(args.json, "solved" if result.status == "solved" else "unsolved", result.status,
                             result.time_s, args.seed,
                             [{"name": name, "args": list(a), "params": {}} for name, a in result.plan],
-                            {"skeletons": 1, "samples": {}, **result.stats})
+                            {"skeletons": 1, "samples": {}, **result.stats}, problem.name)
         except OSError as exc:
             print_error(PddlError(f"--json {args.json}: cannot write: {exc.strerror or exc}"))
             return EXIT_BAD_INPUT

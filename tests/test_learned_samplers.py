@@ -453,6 +453,8 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     with open(os.path.join(folder, "com.samplers.json"), encoding="utf-8") as handle:
         meta = json.load(handle)
     assert meta["episodes"] == 4 and "--episodes 4 " in meta["command"] + " "
+    # Re-run as recorded, the command reads this fragment and data, not the repository's.
+    assert f" --fragment {com_fragment} --task com --out {data}" in meta["command"]
     problem = str(tmp_path / "p.pddl")
     from pdsketch_mech.envs.generate import sample
     from pdsketch_mech.envs.tasks import TASKS
@@ -482,8 +484,15 @@ def test_bench_samplers_table_compares_medians_overall_and_where_both_solved():
     assert ["all", "macro", "2/3", "15.0", "50.0", "30.0", "grasp 50.0/30.0"] in rows
     assert ["held-out categories", "macro+sampler", "1/2", "9.0", "27.5", "16.5", "grasp 27.5/16.5"] in rows
     assert ["solved by both", "macro", "1/1", "10.0", "10.0", "6.0", "grasp 10.0/6.0"] in rows  # runs, not instances
-    assert "all instances: learned samplers simulate 10.00x fewer values" in lines[0]
-    assert "instances solved by both: learned samplers simulate 3.00x fewer values" in lines[1]
+    assert lines[0].startswith("all instances, learned against generic samplers (medians): 10.00x fewer values "
+                               "simulated (3 against 30)")
+    assert lines[1].startswith("instances solved by both, learned against generic samplers (medians): 3.00x fewer "
+                               "values simulated (2 against 6)")
+
+
+def test_bench_samplers_says_as_many_or_more_when_learned_samplers_do_not_save():
+    from pdsketch_mech.bench.samplers import _fewer
+    assert (_fewer(4, 4), _fewer(12, 4), _fewer(4, 5)) == ("as many", "3.00x fewer", "1.25x more")
 
 
 def test_bench_samplers_plans_each_instance_with_its_own_seed(monkeypatch):

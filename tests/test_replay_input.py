@@ -48,6 +48,9 @@ def step(document):
 CASES = [
     ("plan of another problem", EDGE, lambda d: None,
      "step 1 (grasp): argument 1: unknown object 'block' (is the plan for another problem?)"),
+    # Its objects may all exist there too (two test instances of one task): the name tells.
+    ("plan made for a problem of another name", PICK, lambda d: d.update(problem="pick-block-2"),
+     f"the plan was made for problem 'pick-block-2', not 'pick-block' ({PICK})"),
     ("unknown action", PICK, lambda d: step(d).update(name="grsp"),
      "step 1 (grsp): unknown action 'grsp' (did you mean 'grasp'?)"),
     ("unknown parameter type", PICK, lambda d: step(d)["params"]["#grasp2"].update(type="gasp"),

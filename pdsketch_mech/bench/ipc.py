@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 from time import perf_counter
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
-from tqdm import tqdm
 
+from ..cli import progress_bar
 from ..lang.loader import load_problem
 from ..symbolic.solve import solve
 from ..symbolic.validate import validate_plan
@@ -158,13 +158,13 @@ def run_ipc(directory: str, timeout: float = 60.0, peer: Optional[str] = None, s
     problems = discover(directory)
     planners = [OURS] + ([peer] if peer else [])
     trials = []
-    with tqdm(total=len(problems) * len(planners), file=sys.stderr, unit="trial", disable=not progress) as bar:
+    with progress_bar(total=len(problems) * len(planners), unit="trial", disable=not progress) as bar:
         for domain, path in problems:
             for planner in planners:
                 bar.set_description(f"{domain}/{os.path.basename(path)} {planner}")
                 trials.append(run_trial(planner, domain, path, search, timeout))
                 if trials[-1].status in ("error", "crashed"):
-                    tqdm.write(f"{path}: {planner}: {trials[-1].status}: {trials[-1].message}", file=sys.stderr)
+                    bar.write(f"{path}: {planner}: {trials[-1].status}: {trials[-1].message}", file=sys.stderr)
                 bar.update()
     return trials
 

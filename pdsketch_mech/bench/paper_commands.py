@@ -15,7 +15,7 @@ from collections import Counter
 from dataclasses import asdict
 from typing import List, Sequence
 
-from ..cli import EXIT_OK, EXIT_UNSOLVED, count, seconds, seed, write_json, write_text
+from ..cli import EXIT_OK, EXIT_UNSOLVED, count, progress_bar, seconds, seed, write_json, write_text
 from . import compose, mechanisms
 from .ipc import BenchError
 from .plans import check_domain
@@ -92,9 +92,8 @@ def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
         return [store.trials[job.key] for job in jobs if job.key in store.trials]
     print(f"{kind}: {len(jobs)} trials, {len(jobs) - len(todo)} done before, {len(todo)} to run "
           f"({args.workers} at a time, {args.timeout:g} s each at most); results in {args.out}", file=sys.stderr)
-    from tqdm import tqdm
-    with tqdm(total=len(todo), file=sys.stderr, unit="trial", desc=kind, disable=args.quiet,
-              dynamic_ncols=True) as bar:
+    with progress_bar(total=len(todo), unit="trial", desc=kind, disable=args.quiet,
+                      dynamic_ncols=True) as bar:
         def landed(trial: Trial) -> None:
             bar.update(1)
             bar.set_postfix_str(f"{trial.task} {trial.method} #{trial.index}: {trial.status} {trial.time_s:.1f} s")

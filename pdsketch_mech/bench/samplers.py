@@ -133,8 +133,8 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
         if generic and learned:
             g, lt = statistics.median(t.evaluated for t in generic), statistics.median(t.evaluated for t in learned)
             gp, lp = statistics.median(t.proposed for t in generic), statistics.median(t.proposed for t in learned)
-            lines.append(f"{label}: learned samplers simulate {g / max(lt, 1e-9):.2f}x fewer values and verify "
-                         f"{gp / max(lp, 1e-9):.2f}x fewer proposals than generic ones (medians)")
+            lines.append(f"{label}, learned against generic samplers (medians): {_fewer(g, lt)} values simulated "
+                         f"({lt:g} against {g:g}), {_fewer(gp, lp)} proposals verified ({lp:g} against {gp:g})")
     scores = [t.score_ms for t in trials if t.method == "macro+sampler" and t.score_ms is not None]
     if scores:
         lines.append(f"scoring a batch of proposals: median {statistics.median(scores):.1f} ms "
@@ -144,6 +144,14 @@ def table(trials: Sequence[Trial]) -> Tuple[List[str], List[List[str]], List[str
             lines.append(f"{t.instance} (seed {t.seed}) {t.method}: {t.status} ({t.reason})")
     return header, rows, lines
 
+
+def _fewer(generic: float, learned: float) -> str:
+    """'3.00x fewer', 'as many' or '1.25x more': learned against generic."""
+    if generic == learned:
+        return "as many"
+    if learned < generic:
+        return f"{generic / max(learned, 1e-9):.2f}x fewer"
+    return f"{learned / max(generic, 1e-9):.2f}x more"
 
 def plot(trials: Sequence[Trial], path: str, title: str) -> None:
     """The per-sampler breakdown (the paper's Fig. 8): median proposals and values simulated

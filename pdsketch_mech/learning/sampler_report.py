@@ -39,8 +39,9 @@ def report_markdown(name: str, reports: Sequence[ParamReport], manifest: Dict[st
         f"Made by `{info['command']}`: {selfplay_s:.0f} s of self-play episodes (summed over workers), "
         f"{info['seconds_training']:.0f} s of training.", "",
         f"Self-play: {totals.get('episodes', 0)} episodes on the `{info['task']}` train split, "
-        f"{totals.get('successes', 0)} succeeded; {totals.get('samples', 0)} proposals verified (values and rejected ones), "
-        f"{totals.get('positives', 0)} of them in a successful plan.", "",
+        f"{totals.get('successes', 0)} succeeded; {totals.get('samples', 0)} proposals verified (values and rejected ones) "
+        f"of every parameter, trajectories included, {totals.get('positives', 0)} of them in a successful plan. "
+        "The table counts the parameters with a classifier only, after subsampling.", "",
         "| parameter | kind | rows (rejected proposals) | positives | validation rows (positives) | kept epoch "
         "| validation AUC | balanced accuracy | verification AUC |",
         "|---|---|---|---|---|---|---|---|---|",

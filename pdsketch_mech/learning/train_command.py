@@ -17,7 +17,7 @@ import time
 from dataclasses import replace
 from typing import TYPE_CHECKING, Dict, Optional, Tuple, Union
 
-from ..cli import EXIT_BAD_INPUT, fail, print_error, write_text
+from ..cli import EXIT_BAD_INPUT, fail, print_error, progress_bar, write_text
 from ..lang.errors import PddlError
 from ..lang.nodes import Domain
 from ..lang.parser import parse_file
@@ -81,12 +81,11 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
                    manifest: Dict[str, object], info: Dict[str, object], quiet: bool = False) -> int:
     """Train on every episode in `data`, write checkpoint + metadata + report, point the
     fragment at the checkpoint. Returns how many classifiers were trained."""
-    from tqdm import tqdm
     episodes = read_episodes(data)
     started = time.perf_counter()
     total = len(parent_specs(episodes)) * config.epochs  # an upper bound: a parameter never used is skipped
-    with tqdm(total=total, file=sys.stderr, unit="epoch", desc=f"train {name}", disable=quiet,
-              dynamic_ncols=True) as bar:
+    with progress_bar(total=total, unit="epoch", desc=f"train {name}", disable=quiet,
+                      dynamic_ncols=True) as bar:
         def progress(variable: str, epoch: int, train_loss: float, held_loss: float) -> None:
             bar.set_postfix_str(f"{variable} epoch {epoch + 1}/{config.epochs}: loss {train_loss:.3f}, "
                                 f"validation {held_loss:.3f}")
@@ -115,7 +114,8 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
           f"{shown(metadata_path(checkpoint))}, {shown(base)}.md/.png"
           + (f"; {shown(fragment)} now names the checkpoint" if changed else ""), file=sys.stderr)
     for r in reports:
-        figure = f"validation AUC {r.auc:.3f}" if r.auc is not None else "validation AUC -"
+        figure = (f"validation AUC {r.auc:.3f}" if r.auc is not None
+                  else "validation AUC - (the held-out episodes' rows hold one class only)")
         print(f"  {r.variable} ({r.kind}): {r.rows} proposals ({r.rejected} rejected), {r.positives} used; "
               + (f"not trained: {r.skipped}" if r.skipped else figure), file=sys.stderr)
     return len(trained)

@@ -73,7 +73,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
     if args.json:
         try:
             write_plan_json(args.json, result.status, result.reason or result.status, result.time_s, args.seed,
-                            entries, result.stats)
+                            entries, result.stats, problem.name)
         except OSError as exc:
             print(f"{args.json}: error: cannot write: {exc.strerror}", file=sys.stderr)
             return EXIT_BAD_INPUT

@@ -13,7 +13,7 @@ import json
 import math
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
-from ..lang.errors import PddlError, did_you_mean
+from ..lang.errors import PddlError, did_you_mean, escape
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Action, Loc, Problem
 from ..lang.source import read_text
@@ -67,10 +67,16 @@ class _Checker:
         self.objects = {c.name: c.type for c in domain.domain.constants}
         self.objects.update((o.name, o.type) for o in problem.objects)
         self.scene = {entry.name for entry in problem.scene or ()}
+        self.problem = problem
 
     def document(self, document: Any) -> List[Dict[str, Any]]:
         if not isinstance(document, dict) or not isinstance(document.get("plan"), list):
             raise _Invalid((), "not a plan written by `plan --json`: expected an object with a \"plan\" list")
+        made_for = document.get("problem")   # absent in plans saved before it was recorded
+        if made_for is not None and made_for != self.problem.name:
+            where = f" ({self.problem.loc.file})" if self.problem.loc and self.problem.loc.file else ""
+            raise _Invalid(("problem",), f"the plan was made for problem '{escape(str(made_for))}', not "
+                                         f"'{self.problem.name}'{where}")
         for index, step in enumerate(document["plan"]):
             self.step(("plan", index), step)
         return document["plan"]

@@ -79,7 +79,8 @@ def read(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Dict[str, n
         if meta.get("mechanism") != mechanism.name or meta.get("mechanism_hash") != mechanism_hash(mechanism):
             raise CheckpointError(
                 f"{weights} was trained for another definition of mechanism '{meta.get('mechanism')}' than the one "
-                f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name}) or plan with "
+                f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name} --fragment {fragment} "
+                f"--force) or plan with "
                 "--no-learned-samplers")
         layout(meta)
         tensors = load_file(weights)
