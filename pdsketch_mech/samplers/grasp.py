@@ -319,7 +319,9 @@ def _support_heights(world: "World", obj: str, mesh: trimesh.Trimesh, scene: tup
     calls, and a step revisited in the same state calls again, and each would cast the same
     rays (a quarter of a call's time on a plate's rim)."""
     known = _HEIGHTS.setdefault(world, {})
-    key = (obj, scene)
+    # The grid spans the object's AABB as PyBullet has it, which depends on how the object got
+    # where it is (simulated or set), not only on where it is: the same AABB too, or new heights.
+    key = (obj, scene, p.getAABB(world.bodies[obj].id, physicsClientId=world.client))
     if key not in known:
         if len(known) >= 16:
             del known[next(iter(known))]
