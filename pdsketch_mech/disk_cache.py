@@ -14,9 +14,10 @@ import io
 import os
 import tempfile
 import zlib
-from typing import Callable, Dict, Iterable, Optional, Union
+from typing import TYPE_CHECKING, Callable, Dict, Iterable, Optional, Union
 
-import numpy as np
+if TYPE_CHECKING:  # numpy is imported where arrays are read or written: the parser needs none
+    import numpy as np
 
 
 def cache_dir() -> str:
@@ -61,9 +62,10 @@ def store(name: str, write: Callable[[object], None]) -> Optional[str]:
             os.unlink(tmp)
 
 
-def load_arrays(name: str) -> Optional[Dict[str, np.ndarray]]:
+def load_arrays(name: str) -> Optional[Dict[str, "np.ndarray"]]:
     """The arrays of the entry `name` (an .npz written by `store_arrays`), or None when it is
     missing or damaged. Never unpickles: an entry is data only."""
+    import numpy as np
     try:
         with np.load(entry_path(name), allow_pickle=False) as entry:
             return {key: entry[key] for key in entry.files}
@@ -71,8 +73,9 @@ def load_arrays(name: str) -> Optional[Dict[str, np.ndarray]]:
         return None
 
 
-def store_arrays(name: str, **arrays: np.ndarray) -> Optional[str]:
+def store_arrays(name: str, **arrays: "np.ndarray") -> Optional[str]:
     """Write `arrays` as the entry `name` (.npz, atomically); its path, or None (`store`)."""
+    import numpy as np
     buffer = io.BytesIO()
     np.savez(buffer, **arrays)
     return store(name, lambda handle: handle.write(buffer.getvalue()))

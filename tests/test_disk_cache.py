@@ -124,3 +124,11 @@ def test_a_classifiers_embedding_of_a_shape_is_read_back_under_its_weights_name(
     learned.digest = "other weights"                 # another checkpoint embeds the shape anew
     with pytest.raises(AssertionError):
         learned._embedding("?p", urdf)
+
+
+def test_the_parser_reads_its_cached_tables_without_importing_numpy():
+    import subprocess
+    import sys
+    code = "import sys, pdsketch_mech.lang.parser as p; p._lark(); print('numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
