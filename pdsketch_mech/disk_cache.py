@@ -80,11 +80,3 @@ def store_arrays(name: str, **arrays: "np.ndarray") -> Optional[str]:
     np.savez(buffer, **arrays)
     return store(name, lambda handle: handle.write(buffer.getvalue()))
 
-
-def file_digest(path: str) -> str:
-    """sha256 of a file's content (e.g. a checkpoint whose derived values are cached)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()

@@ -64,9 +64,10 @@ def save(weights: str, model: "MechanismClassifiers", mechanism: Mechanism, info
 def read(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Dict[str, np.ndarray], Dict[str, Any]]:
     """The tensors (as numpy arrays) and metadata of `mechanism`'s checkpoint (defined in
     `fragment`); CheckpointError if the files are missing or unreadable or were trained for
-    another definition. Imports no torch."""
+    another definition. Imports no torch. The metadata gains `weights_sha256`, the weights
+    file's digest (what is derived from the weights is cached on disk under it)."""
     from safetensors import SafetensorError
-    from safetensors.numpy import load_file
+    from safetensors.numpy import load as load_bytes
     meta_file = metadata_path(weights)
     for path in (weights, meta_file):
         if not os.path.isfile(path):
@@ -83,7 +84,10 @@ def read(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Dict[str, n
                 f"--force) or plan with "
                 "--no-learned-samplers")
         layout(meta)
-        tensors = load_file(weights)
+        with open(weights, "rb") as handle:
+            data = handle.read()
+        tensors = load_bytes(data)
+        meta["weights_sha256"] = hashlib.sha256(data).hexdigest()
     except (OSError, ValueError, KeyError, TypeError, SafetensorError) as exc:
         if isinstance(exc, CheckpointError):
             raise

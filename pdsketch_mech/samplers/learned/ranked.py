@@ -57,7 +57,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, Iterator, List,
 
 import numpy as np
 
-from ...disk_cache import content_key, file_digest, load_arrays, store_arrays
+from ...disk_cache import content_key, load_arrays, store_arrays
 from ..interface import Sampler, SampleRequest
 from .checkpoint import context_count, load_numpy
 from .context import context_objects
@@ -116,7 +116,8 @@ class LearnedMechanism:
         if known:
             objects = self.objects(world, request)
             bodies = [world.bodies[o] for o in objects]
-            # First: a new shape's embedding loads its solid, which size_features reads too.
+            # First: a new shape's cloud, read or drawn with its half-extents (size_features),
+            # falls in the embedding's time, not the batch's.
             shapes = self._shape_vectors(world, request, variable)
             by_variable = {request.step.role(k): v for k, v in request.parents.items()}
             parents = [by_variable.get(variable) for variable, _ in classifier.spec.parents]
@@ -355,7 +356,6 @@ def load_learned(mechanisms: Iterable["Mechanism"]) -> Dict[str, LearnedMechanis
     out = {}
     for mechanism in mechanisms:
         if mechanism.sampler:
-            path = checkpoint_path(mechanism)
-            model, meta = load_numpy(path, mechanism, mechanism.loc.file)
-            out[mechanism.name] = LearnedMechanism(model, meta, file_digest(path))
+            model, meta = load_numpy(checkpoint_path(mechanism), mechanism, mechanism.loc.file)
+            out[mechanism.name] = LearnedMechanism(model, meta, meta["weights_sha256"])
     return out
