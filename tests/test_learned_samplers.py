@@ -22,8 +22,9 @@ from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, loa
 from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
 from pdsketch_mech.samplers.learned.forward import NumpyClassifiers
 from pdsketch_mech.samplers.learned.pointnet import ball_query, farthest_points
-from pdsketch_mech.samplers.learned.ranked import EXPLORE, RankedSampler, walk
+from pdsketch_mech.samplers.learned.ranked import EXPLORE, RankedSampler
 from pdsketch_mech.samplers.learned.trust import Trust
+from pdsketch_mech.samplers.learned.walk import GAP, TOP_UPS, walk
 from pdsketch_mech.samplers.learned.specs import ParamSpec
 
 from learned_data import TINY, AllVerify, Numbers, synthetic_episodes
@@ -246,6 +247,25 @@ def test_walk_ranks_and_explores_but_keeps_every_proposal():
     assert all(explored for _, explored in list(walk(scores, np.random.default_rng(0), lambda: 1.0))[:-1])
 
 
+def test_walk_tops_up_a_batch_whose_best_left_is_hopeless():
+    """After the batch's best, the rest lie more than GAP below it: the walk takes the fresh
+    proposals the caller appends first, and walks on through the old ones when no more come."""
+    fresh = [np.array([-1.0, -4.0 * GAP])]
+    calls = []
+
+    def top_up():
+        calls.append(1)
+        return fresh.pop() if fresh else np.zeros(0)
+
+    scores = np.array([0.0, -2.0 * GAP, -3.0 * GAP])
+    picks = [i for i, _ in walk(scores, np.random.default_rng(0), lambda: 0.0, top_up)]
+    assert picks == [0, 3, 1, 2, 4]           # the fresh -1 before the old -2 GAP; nothing dropped
+    assert len(calls) == TOP_UPS              # a walk stops asking once its top-ups are spent
+    close = np.array([0.0, -0.5 * GAP])
+    assert [i for i, _ in walk(close, np.random.default_rng(0), lambda: 0.0, top_up)] == [0, 1]
+    assert len(calls) == TOP_UPS              # the rest was not hopeless: no top-up asked
+
+
 def test_trust_keeps_the_learned_order_unless_random_picks_do_better():
     trust = Trust(EXPLORE)
     assert trust.explore_chance() == EXPLORE                 # no evidence: the floor
@@ -279,8 +299,8 @@ class ByValue:
         return None   # no fixed object out of place
 
 
-def best_first(scores, rng, explore):
-    """A walk that never explores: the batch strictly best first."""
+def best_first(scores, rng, explore, top_up=None):
+    """A walk that never explores nor tops up: the batch strictly best first."""
     return ((int(i), False) for i in np.argsort(-scores, kind="stable"))
 
 
@@ -328,6 +348,37 @@ def test_a_batch_calls_a_proposer_that_ran_dry_again(monkeypatch):
     assert dry.made == 4                      # the fourth call found none: no more calls
     assert values == [4] and capped.examined == 2   # 5 and 4, the best two of 0..5: a visit verifies
                                                     # as many as the first call found, as generic would
+
+
+class Peaked(AllVerify):
+    """A stand-in proposer whose every call proposes one value a classifier believes in
+    (100 - the call's number) among fifteen it does not (-100 and below)."""
+
+    def __init__(self):
+        super().__init__(0)
+        self.made = 0
+
+    def propose(self, world, request, rng, budget):
+        self.made += 1
+        k = self.made - 1
+        return iter([100 - k] + [-100 - 16 * k - j for j in range(15)])
+
+
+def test_a_ranked_sampler_tops_up_a_batch_rather_than_verify_its_hopeless_rest(monkeypatch):
+    """Once the batch's best is taken, the next verified is the best of a fresh batch, not
+    the old batch's hopeless second; after TOP_UPS fresh batches the old rest comes in order.
+    A visit that will verify no more draws no fresh batch (proposing moves the rng)."""
+    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.EXPLORE", 0.0)
+    assert 200 > GAP
+    request = SampleRequest("s", (), (), StepContext("place", ()))
+    proposer = Peaked()
+    ranked = RankedSampler(proposer, ByValue(), "?p", pool=0)
+    values = list(itertools.islice(ranked.draw(None, request, np.random.default_rng(0), budget=16), TOP_UPS + 2))
+    assert values == [100.0 - k for k in range(TOP_UPS + 1)] + [-100.0]
+    assert proposer.made == TOP_UPS + 1
+    one = Peaked()
+    assert list(RankedSampler(one, ByValue(), "?p", pool=0).draw(None, request, np.random.default_rng(0), budget=1)) == [100.0]
+    assert one.made == 1
 
 
 def test_a_ranked_sampler_that_keeps_failing_falls_back_to_the_generic_order():

@@ -4,8 +4,8 @@ For a mechanism step whose parameter has a classifier, the step's stream takes a
 BATCH proposals from its generic sampler (a checkpoint of values only: a pool of verified
 values, RankedSampler says why), scores the batch in one forward pass in the step's context
 (the mechanism's objects where they are now, the values its earlier steps drew), and goes
-through it best first. A share of the walk (EXPLORE) takes one at random
-from the rest instead. The ranking reorders, it never removes: a visit verifies the batch
+through it best first (walk.py). A share of the walk (EXPLORE) takes one at random
+from the rest instead, and a rest far below the best is topped up with a fresh batch first. The ranking reorders, it never removes: a visit verifies the batch
 until its budget ends, and the next visit draws new proposals, so the planner stays as
 complete as with the generic sampler.
 A proposer that runs dry before the batch is full is called again (REFILLS): a batch of the
@@ -66,6 +66,7 @@ from .forward import NumpyClassifiers
 from .specs import width
 from .shapes import cloud_key, size_features, unit_cloud
 from .trust import Trust
+from .walk import walk
 
 if TYPE_CHECKING:
     from ...lang.nodes import Mechanism
@@ -187,16 +188,6 @@ class LearnedMechanism:
         return embedding
 
 
-def walk(scores: np.ndarray, rng: np.random.Generator, explore: Callable[[], float]) -> Iterator[Tuple[int, bool]]:
-    """(index, explored) best first, lazily: each next one is drawn at random from the rest
-    with chance `explore()`, read at that moment (outcomes of earlier picks may change it)."""
-    remaining = [int(i) for i in np.argsort(-scores, kind="stable")]
-    while remaining:
-        explored = len(remaining) > 1 and rng.random() < explore()
-        pick = int(rng.integers(len(remaining))) if explored else 0
-        yield remaining.pop(pick), explored
-
-
 class RankedSampler(Sampler):
     """A generic sampler whose values are yielded in the order a classifier ranks them.
 
@@ -312,7 +303,14 @@ class RankedSampler(Sampler):
                 return
             scores = self._scored(world, request, batch)
             trust = self.trust_for(request)
-            for index, explored in walk(scores, rng, trust.explore_chance):
+
+            def top_up() -> np.ndarray:
+                # Only for a pick the visit will verify: drawing proposals moves the rng.
+                fresh = [] if done() else list(islice(proposals, BATCH))
+                batch.extend(fresh)
+                return self._scored(world, request, fresh) if fresh else np.zeros(0)
+
+            for index, explored in walk(scores, rng, trust.explore_chance, top_up):
                 if done():
                     return
                 examined += 1
