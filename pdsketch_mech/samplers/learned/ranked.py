@@ -5,9 +5,10 @@ BATCH proposals from its generic sampler (a checkpoint of values only: a pool of
 values, RankedSampler says why), scores the batch in one forward pass in the step's context
 (the mechanism's objects where they are now, the values its earlier steps drew), and goes
 through it best first (walk.py). A share of the walk (EXPLORE) takes one at random
-from the rest instead, and a rest far below the best is topped up with a fresh batch first. The ranking reorders, it never removes: a visit verifies the batch
-until its budget ends, and the next visit draws new proposals, so the planner stays as
-complete as with the generic sampler.
+from the rest instead, and a rest far below the best is topped up with a fresh batch
+first. The ranking reorders, it never removes: a visit verifies the batch until its budget
+ends, and the next visit draws new proposals, so the planner stays as complete as with the
+generic sampler.
 A proposer that runs dry before the batch is full is called again (REFILLS): a batch of the
 two contacts one call finds leaves the classifier nothing to choose. A visit still verifies
 no more proposals than that first call found, as the generic draw would: the refills widen the
