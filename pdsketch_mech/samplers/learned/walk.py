@@ -21,7 +21,7 @@ ten instances (`--seed 10`, not traced): Lever 18 / 19.0 -> 12 / 12.6, Poking 23
 """
 from __future__ import annotations
 
-from typing import Callable, Iterator, Optional, Tuple
+from typing import Callable, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -37,7 +37,11 @@ def walk(scores: np.ndarray, rng: np.random.Generator, explore: Callable[[], flo
     when there are none), a learned pick whose best left lies more than GAP below the best
     the walk has seen first tops the batch up, up to TOP_UPS times."""
     scores = [float(x) for x in scores]
-    remaining = [int(i) for i in np.argsort(-np.asarray(scores), kind="stable")]
+
+    def best_first(indices: List[int]) -> List[int]:
+        return sorted(indices, key=lambda i: -scores[i])   # stable: ties keep their order
+
+    remaining = best_first(list(range(len(scores))))
     best, top_ups = max(scores, default=-np.inf), 0
     while remaining:
         explored = len(remaining) > 1 and rng.random() < explore()
@@ -49,7 +53,6 @@ def walk(scores: np.ndarray, rng: np.random.Generator, explore: Callable[[], flo
                 break
             scores.extend(fresh)
             best = max(best, max(fresh))
-            remaining = sorted(remaining + list(range(len(scores) - len(fresh), len(scores))),
-                               key=lambda i: -scores[i])
+            remaining = best_first(remaining + list(range(len(scores) - len(fresh), len(scores))))
         pick = int(rng.integers(len(remaining))) if explored else 0
         yield remaining.pop(pick), explored
