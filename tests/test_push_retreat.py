@@ -49,3 +49,19 @@ def test_the_retreat_backs_the_stick_out_of_the_tunnel_and_the_lift_is_clear(pok
     assert not lift_hits(world)
     move_straight(world, UP, LIFT, "lift")
     assert not CollisionChecker(world).collides(world.arm())
+
+
+def test_a_stick_pressed_on_the_table_in_the_tunnel_still_backs_out_before_the_lift(poked):
+    """A tool pushed along the table touches it where every lift starts; that contact must
+    not make every lift look blocked (the retreat then stopped at BACK, inside the tunnel,
+    and the lift jammed the stick against the roof)."""
+    world, axis, travel, snapshot = poked
+    world.restore(snapshot)
+    move_straight(world, (0.0, 0.0, -1.0), 0.02, "lower")   # press the stick onto the table
+    assert "table" in CollisionChecker(world).colliding_bodies(world.arm())
+    start = np.asarray(world.tcp_pose()[0])
+    back_out(world, -axis, BACK, travel + OUT_BEYOND, UP, LIFT)
+    backed = float(np.dot(start - np.asarray(world.tcp_pose()[0]), axis))
+    assert backed > BACK + 0.01
+    move_straight(world, UP, LIFT, "lift")
+    assert not CollisionChecker(world).collides(world.arm())
