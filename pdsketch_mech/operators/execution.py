@@ -141,7 +141,8 @@ def _lift_is_free(world: "World", q: Sequence[float], lift: Sequence[float], dis
     path = cartesian_path(world, q, lift, distance, rng)
     if path is None:
         return False
-    leaves = int(np.ceil(LIFT_LEAVES / distance * (len(path) - 1)))
+    # The waypoints are evenly spaced; the top one is checked however short the lift.
+    leaves = min(int(np.ceil(LIFT_LEAVES / distance * (len(path) - 1))), len(path) - 1)
     return path_collision(world, path[leaves:]) is None
 
 
