@@ -11,7 +11,7 @@ visit will verify): the next pick is the best of a fresh batch, not of a larger 
 optimizer's curse, ranked.py, stays at a batch's size), and nothing is dropped. A cut-off
 at the same gap, which skipped the rest instead, cost Poking (the tool put down after a
 push: any free spot works, and ending the visit sent the search back to a new push).
-Measured (`bench samplers NAME --instances 10 --runs 3`, learned runs; values
+Measured at cf0f99a (`bench samplers NAME --instances 10 --runs 3`, learned runs; values
 simulated, median and geometric mean over the 30 runs): Lever 18 / 23.4 -> 12 / 18.5,
 Poking 17 / 21.3 -> 19 / 19.0 (poking-test-6: 196, 206, 318 -> 34, 66, 114),
 Slope-and-Blocker 8 / 14.6 -> 8 / 13.6, Hook 30 / 33.0 -> 30 / 33.3; Edge and
