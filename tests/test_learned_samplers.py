@@ -546,6 +546,19 @@ def test_bench_samplers_says_as_many_or_more_when_learned_samplers_do_not_save()
     assert (_fewer(4, 4), _fewer(12, 4), _fewer(4, 5)) == ("as many", "3.00x fewer", "1.25x more")
 
 
+def test_bench_samplers_says_how_few_values_a_plan_through_the_mechanism_can_take():
+    """Center-of-Mass's two steps have four continuous parameters: where the generic samplers
+    take 4 values, the table says no sampler can take fewer, rather than leave 1.0x unexplained."""
+    from pdsketch_mech.bench.samplers import Trial, fewest_values, table
+    assert (fewest_values("domains/mechanisms/com.pddl", "com"), fewest_values("domains/mechanisms/lever.pddl", "lever"),
+            fewest_values("domains/mechanisms/poking.pddl", "poking")) == (4, 6, 8)
+    trials = [Trial("a", False, "macro", "solved", 1, {"grasp": 12}, {"grasp": 2, "placement": 2}),
+              Trial("a", False, "macro+sampler", "solved", 1, {"grasp": 4}, {"grasp": 2, "placement": 2})]
+    assert ("the fewest values a plan through the mechanism's steps simulates: 4 (one per continuous parameter), "
+            "1.00x fewer than the generic median (4)") in table(trials, 4)[2][1]
+    assert not any(line.startswith("the fewest") for line in table(trials)[2])
+
+
 def test_bench_samplers_plans_each_instance_with_its_own_seed(monkeypatch):
     """Both methods of instance k get planner seed S + k, as in `bench mechanisms` (with one
     seed for every instance the generic sampler drew the same first values on each), and

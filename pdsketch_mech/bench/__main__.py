@@ -190,7 +190,8 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     keep = _keep_folder(args.keep)
     trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep,
                                    workers=args.workers, runs=args.runs)
-    header, cells, lines = samplers.table(trials)
+    fewest = samplers.fewest_values(fragment, args.name)
+    header, cells, lines = samplers.table(trials, fewest)
     print(render_text(header, cells, lines), end="")
     if args.markdown:
         write_text(args.markdown, render_markdown(header, cells, lines))
@@ -205,11 +206,11 @@ def run_samplers_command(args: argparse.Namespace) -> int:
         if args.workers > 1:
             options.append(f"--workers {args.workers}")
         command = " ".join([f"python -m pdsketch_mech.bench samplers {args.name}"] + options + ["--report"])
-        png = samplers.add_to_report(trials, report, args.name, command, checkout_commit())
+        png = samplers.add_to_report(trials, report, args.name, command, checkout_commit(), fewest)
         print(f"added the comparison to {report} ({png})")
     _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,
                                 "instances": args.instances, "runs": args.runs, "seed": args.seed,
-                                "timeout_s": args.timeout,
+                                "timeout_s": args.timeout, "fewest_values": fewest,
                                 "trials": [asdict(t) for t in trials], "lines": lines})
     return EXIT_UNSOLVED if any(t.status == "invalid" for t in trials) else EXIT_OK
 
