@@ -110,3 +110,35 @@ def test_the_step_sampler_tells_the_promise_what_its_learned_samplers_scored():
     # The planner asks for every active skeleton's weight each turn, which makes them rivals.
     assert steps.promise.weight([(TOOL, HOLD_BOX)]) == 1.0
     assert steps.promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
+
+
+class Counting(AllVerify):
+    """AllVerify that counts the proposals it verifies."""
+
+    verified = 0
+
+    def verify(self, world, request, candidate, rng):
+        Counting.verified += 1
+        return super().verify(world, request, candidate, rng)
+
+
+def test_a_probe_scores_a_grounding_before_its_skeleton_gets_work_and_verifies_nothing():
+    """The planner probes an upcoming skeleton's first mechanism step (planner/bilevel.py):
+    one batch proposed and scored, none verified, so that a rival grounding the classifiers
+    prefer can be created first. A step no classifier ranks is not probed."""
+    from pdsketch_mech.lang.nodes import Stream
+    from pdsketch_mech.symbolic.optimistic import Placeholder
+    streams = {"sample-grasp": Stream("sample-grasp", sampler="grasp")}
+    holders = {f"#g{i}": Placeholder(f"#g{i}", "grasp", "sample-grasp", (obj,), 0)
+               for i, obj in ((1, "tool"), (2, "apple"))}
+    steps = StepSampler(streams, holders, Counter(), {"hook": ByValue()})
+    steps.samplers["sample-grasp"] = Counting(4)
+    rng, world = np.random.default_rng(0), SimpleNamespace(bodies={})
+    for (mechanism, args), g in ((TOOL, "#g1"), (APPLE, "#g2")):
+        assert steps.probe(world, StepContext("grasp", (args[0], g), mechanism, args, 0, ((g, "?g"),)), rng)
+    assert Counting.verified == 0 and steps.proposals()["learned"] == {}
+    assert steps.promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+    assert steps.promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
+    # A basis step (no mechanism) and a variable without a classifier are left alone.
+    assert not steps.probe(world, StepContext("grasp", ("tool", "#g1")), rng)
+    assert not steps.probe(world, StepContext("grasp", ("tool", "#g1"), "hook", TOOL[1], 0, (("#g1", "?p"),)), rng)

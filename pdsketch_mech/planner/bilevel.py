@@ -29,7 +29,7 @@ from .bottlenecks import SharedOutcomes
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures
-from .refine import Refinement, Step
+from .refine import Refinement, Step, skeleton_groundings
 from .schedule import SLICE, heaviest, next_turn
 from .serialize import plan_entries
 from .supply import SkeletonSupply
@@ -54,6 +54,7 @@ class PlanResult:
 # approach from wherever the arm is, so on their own these never enable anything; the
 # symbolic search skips them unless a mechanism lists them as steps.
 FREE_MOTIONS = ("transit", "move")
+PROBE = 1   # a probe's random stream, apart from its skeleton's (seeded by the same labels)
 
 
 def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = True):
@@ -117,11 +118,33 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 * unblocked.weight(refinement.steps)
                 * outcomes.weight(refinement.outcome_keys, refinement.rank))
 
+    probed: set = set()
+
+    def probe(window) -> None:
+        """Upcoming skeletons that begin with a mechanism's first step, in the scene as it
+        begins: one batch of that step's proposals scored, none verified, so that which of
+        the mechanism's groundings its learned samplers prefer is known before any of them
+        gets work (on lever-test-3, the 0.5 kg spoon's placements were simulated twice
+        before the skeleton with an apple as the weight, which the classifiers preferred
+        from its first grasp on, was created)."""
+        for plan, steps, _ in window:
+            first = steps[0] if steps else None
+            if tuple(plan) in probed or first is None or first.mechanism is None or first.index:
+                continue
+            probed.add(tuple(plan))
+            world.restore(initial)
+            label = " ".join(task.operators[o].label for o in plan)
+            sampler.probe(world, first.context(), np.random.default_rng([seed, zlib.crc32(label.encode()), PROBE]))
+
     try:
         while time.perf_counter() < deadline:
             window = supply.upcoming()
-            # The first upcoming skeleton with the fewest unexplained detours comes next (supply.py).
-            detour_weights = [supply.weight(plan) for plan, _, _ in window]
+            if sampler.learned:
+                probe(window)
+            # The first upcoming skeleton with the fewest unexplained detours, and the groundings
+            # the learned samplers prefer, comes next (supply.py, promise.py).
+            detour_weights = [supply.weight(plan) * sampler.promise.weight(skeleton_groundings(steps))
+                              for plan, steps, _ in window]
             chosen = heaviest(detour_weights) if window else 0
             upcoming_weight = (detour_weights[chosen] * unblocked.weight(window[chosen][1])
                                * outcomes.weight(outcomes.keys(window[chosen][1])) if window else 1.0)

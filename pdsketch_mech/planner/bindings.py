@@ -129,6 +129,26 @@ class StepSampler:
                 "(the generic samplers drew instead; retrain on a task distribution that varies that)"
                 for mechanism in sorted(visits)]
 
+    def probe(self, world: World, step: StepContext, rng: np.random.Generator) -> bool:
+        """Score one batch of proposals for the step's first parameter, if a classifier of
+        proposals ranks it, verifying none: what the learned samplers think of the step's
+        mechanism grounding (promise.py) is then known before its skeleton gets any work.
+        True if a batch was scored."""
+        needed = sorted({a for a in step.args if is_placeholder(a)}, key=lambda a: (self.placeholders[a].level, a))
+        if not needed or not step.mechanism or step.mechanism not in self.learned:
+            return False
+        holder = self.placeholders[needed[0]]
+        if any(is_placeholder(v) for v in holder.inputs):
+            return False
+        stream = self.streams[holder.stream]
+        ranked = self.sampler_for(stream.name, step, needed[0])
+        if not hasattr(ranked, "probe"):
+            return False
+        objects = [a for a in step.args if not is_placeholder(a) and a in world.bodies]
+        request = SampleRequest(stream.name, tuple(holder.inputs), tuple(q.name for q in stream.inputs), step,
+                                {name: world.pose(name) for name in objects}, {}, self.deadline)
+        return ranked.probe(world, request, rng)
+
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,
                 parents: Optional[Mapping[str, object]] = None, per_value: int = 1) -> Iterator[Dict[str, object]]:
         """Assignments {placeholder: value} for the placeholders among the step's arguments;

@@ -18,7 +18,14 @@ constant factor. Rivals are the groundings of the same mechanism that promise th
 (its :certified, grounded): the ways to reach the same subgoal. A Hook grounding that pulls
 the tool within reach with the apple serves another subgoal and scores high for it; it says
 nothing about which object should pull the box. Two rivals are compared on the sum over the
-variables both were scored on. A grounding no batch has scored yet is not held back.
+variables both were scored on. A grounding no batch has scored yet is not held back; so that
+most are scored before any gets work, the planner probes each upcoming skeleton that begins
+with a mechanism's first step (bilevel.py: one batch of that step's proposals scored where
+the scene begins, none verified). Measured with probes against without (`bench samplers NAME
+--instances 10 --runs 3`, learned runs, values simulated, median / geometric mean): Lever
+12 / 17.4 -> 7 / 14.9 (the 0.5 kg spoon's placements were tried before an apple's, which the
+classifiers preferred from its first grasp on), Hook 30 / 33.3 -> 23 / 28.8, Poking
+14 / 18.6 -> 14 / 17.4, Slope-and-Blocker 8 / 13.6 -> 8 / 13.4, Center-of-Mass the same.
 
 An earlier weighting by a grounding's own best score, against no rival, helped where the
 classifier was right and hurt where it was not, and was dropped (README).

@@ -50,6 +50,12 @@ class Step:
         return StepContext(self.name, self.args, self.mechanism, self.mechanism_args, self.index, self.roles)
 
 
+def skeleton_groundings(steps: Sequence[Step]) -> List[Tuple[Tuple[str, Tuple[str, ...]], Tuple[Tuple[int, int], ...]]]:
+    """A skeleton's mechanism groundings, (mechanism, its object arguments), each with what it
+    promises (its last step's certified facts)."""
+    return [((s.mechanism, s.mechanism_args), s.certified) for s in steps if s.certified]
+
+
 @dataclass
 class Refinement:
     """The continuous search of one skeleton, resumable across time slices."""
@@ -184,9 +190,7 @@ class Refinement:
         return None
 
     def groundings(self) -> List[Tuple[Tuple[str, Tuple[str, ...]], Tuple[Tuple[int, int], ...]]]:
-        """The skeleton's mechanism groundings, (mechanism, its object arguments), each with
-        what it promises (its last step's certified facts)."""
-        return [((s.mechanism, s.mechanism_args), s.certified) for s in self.steps if s.certified]
+        return skeleton_groundings(self.steps)
 
     def _continues(self, i: int) -> bool:
         """Whether step i + 1 is the next step of step i's mechanism."""

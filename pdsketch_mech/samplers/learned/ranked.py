@@ -271,6 +271,21 @@ class RankedSampler(Sampler):
             for index, explored in walk(scores, rng, trust.explore_chance):
                 yield self._yielded(pool[index], trust, explored)
 
+    def probe(self, world: "World", request: SampleRequest, rng: np.random.Generator) -> bool:
+        """Score one batch of proposals, verifying none, for `on_scores` (the planner's view of
+        the grounding, planner/promise.py). False where the classifier is not asked (a pool of
+        verified values, or a fixed object out of its training's place) or nothing is proposed."""
+        if self.pool or self.learned.extrapolates(world, request, self.variable) is not None:
+            return False
+        batch: List[object] = []
+        for _ in range(1 + REFILLS):   # a thin spoon lying flat may give a call no grasp at all
+            batch += islice(self.generic.propose(world, request, rng, max(self.budget, BATCH)), BATCH - len(batch))
+            if len(batch) >= BATCH or time.perf_counter() > request.deadline:
+                break
+        if batch:
+            self._scored(world, request, batch)
+        return bool(batch)
+
     def _scored(self, world: "World", request: SampleRequest, proposals: List[object]) -> np.ndarray:
         scores = self.learned.score(world, request, self.variable, proposals)
         if self.on_scores is not None:
