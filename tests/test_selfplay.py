@@ -197,6 +197,17 @@ def test_task_of_a_mechanism():
     assert task_of(default_fragment("hook-use"), "hook-use") == "hook"
 
 
+def test_task_of_a_mechanism_extracted_from_a_perturbed_instance(tmp_path):
+    """`demo record com --seed 5` names its recording com-train-5; the fragment extracted
+    from it is still Center-of-Mass's, by the title its header gives."""
+    fragment = tmp_path / "my-com.pddl"
+    fragment.write_text("; Mechanism my-com: extracted from the demonstration com-train-5 (Center-of-Mass, "
+                        "instance com-train-5) by\n(define (domain my-com))\n")
+    assert task_of(str(fragment), "my-com") == "com"
+    fragment.write_text("; Mechanism my-com: extracted from the demonstration x (Juggling, instance x) by\n")
+    assert task_of(str(fragment), "my-com") is None
+
+
 @pytest.mark.parametrize("argv, message", [
     (["nope"], "no such file"),
     (["com", "--backend", "dask"], "invalid choice"),

@@ -27,7 +27,7 @@ def write(node: Union[Domain, Problem]) -> str:
 def write_domain(domain: Domain) -> str:
     out = [f"(define (domain {domain.name})"]
     if domain.extends:
-        out.append(f"  (:extends {' '.join(_string(p) for p in domain.extends)})")
+        out.append(f"  (:extends {' '.join(string_literal(p) for p in domain.extends)})")
     if domain.requirements:
         out.append(f"  (:requirements {' '.join(domain.requirements)})")
     for keyword, names in ((":types", domain.types), (":value-types", domain.value_types),
@@ -111,7 +111,7 @@ def scene_value(value: SceneValue) -> str:
     if isinstance(value, (int, float)):
         return repr(float(value))
     if isinstance(value, str):
-        return _string(value)
+        return string_literal(value)
     if isinstance(value, Symbol):
         return value.name
     if isinstance(value, tuple):
@@ -138,7 +138,7 @@ def _formula_props(*pairs) -> List[str]:
 
 
 def _sampler_prop(sampler) -> List[str]:
-    return [] if sampler is None else [f":sampler {_string(sampler)}"]
+    return [] if sampler is None else [f":sampler {string_literal(sampler)}"]
 
 
 def _action(action: Action) -> str:
@@ -164,7 +164,8 @@ def write_mechanism(mechanism: Mechanism) -> str:
     return _properties(f":mechanism {mechanism.name}", props)
 
 
-def _string(text: str) -> str:
+def string_literal(text: str) -> str:
+    """`text` as a quoted string of the language."""
     if '"' in text or "\n" in text:
         raise ValueError(f"a string cannot hold a quote or a newline: {text!r}")
     return f'"{text}"'

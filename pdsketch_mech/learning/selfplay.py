@@ -93,19 +93,25 @@ def find_mechanism(loaded: LoadedDomain, name: str) -> Mechanism:
     raise ValueError(f"no mechanism named {name} in {loaded.files[-1]} (it has: {names})")
 
 
-DEMO_LINE = re.compile(r"^; Mechanism \S+: extracted from the demonstration (\S+)", re.M)
+DEMO_LINE = re.compile(r"^; Mechanism \S+: extracted from the demonstration (\S+)(?: \(([^,]+), instance)?", re.M)
 
 
 def task_of(fragment: str, name: str) -> Optional[str]:
     """The task a mechanism's instances come from: the task of its name, else the task of
-    the demonstration recording its fragment says it was extracted from."""
+    the demonstration recording its fragment says it was extracted from (by the recording's
+    name, or by the task's title the header gives beside it)."""
     if name in TASKS:
         return name
     with open(fragment, encoding="utf-8") as handle:
         found = DEMO_LINE.search(handle.read())
-    if found and found.group(1) in TASKS:
+    if found is None:
+        return None
+    if found.group(1) in TASKS:
         return found.group(1)
-    return None
+    # A recording of a perturbed instance is named after it (com-train-5); the header names
+    # its task by title too.
+    titled = [task.name for task in TASKS.values() if task.title == found.group(2)]
+    return titled[0] if titled else None
 
 
 def groundings(task: StripsTask, mechanism: str) -> List[int]:

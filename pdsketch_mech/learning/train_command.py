@@ -14,14 +14,13 @@ from __future__ import annotations
 import os
 import sys
 import time
-from dataclasses import replace
 from typing import TYPE_CHECKING, Dict, Optional, Tuple, Union
 
 from ..cli import EXIT_BAD_INPUT, fail, print_error, progress_bar, write_text
 from ..lang.errors import PddlError
 from ..lang.nodes import Domain
 from ..lang.parser import parse_file
-from ..lang.writer import write_domain
+from ..lang.edit import set_mechanism_sampler
 from ..samplers.learned.checkpoint import SUFFIX, metadata_path, save
 from .sampler_data import parent_specs, read_episodes
 from .sampler_report import write_report
@@ -58,22 +57,17 @@ def checkpoint_for(fragment: str, name: str) -> str:
 
 
 def point_fragment_at(fragment: str, name: str, checkpoint: str) -> bool:
-    """Give the fragment's mechanism `:sampler "<checkpoint's file name>"` (the comment lines
-    at the top are kept). Returns whether the file changed."""
+    """Give the fragment's mechanism `:sampler "<checkpoint's file name>"`, the rest of the
+    file as it was (comments included). Returns whether the file changed."""
     with open(fragment, encoding="utf-8") as handle:
         text = handle.read()
     domain = parse_file(fragment)
     assert isinstance(domain, Domain)
     wanted = os.path.relpath(os.path.abspath(checkpoint), os.path.dirname(os.path.abspath(fragment)))
-    mechanisms = tuple(replace(m, sampler=wanted) if m.name == name else m for m in domain.mechanisms)
-    if mechanisms == domain.mechanisms:
+    mechanism = next(m for m in domain.mechanisms if m.name == name)
+    if mechanism.sampler == wanted:
         return False
-    header = []
-    for line in text.splitlines():
-        if not line.startswith(";"):
-            break
-        header.append(line)
-    write_text(fragment, "\n".join(header) + ("\n" if header else "") + write_domain(replace(domain, mechanisms=mechanisms)))
+    write_text(fragment, set_mechanism_sampler(text, mechanism, wanted.replace(os.sep, "/")))
     return True
 
 
