@@ -142,3 +142,29 @@ def test_a_probe_scores_a_grounding_before_its_skeleton_gets_work_and_verifies_n
     # A basis step (no mechanism) and a variable without a classifier are left alone.
     assert not steps.probe(world, StepContext("grasp", ("tool", "#g1")), rng)
     assert not steps.probe(world, StepContext("grasp", ("tool", "#g1"), "hook", TOOL[1], 0, (("#g1", "?p"),)), rng)
+
+
+def test_only_groundings_with_a_rival_are_probed_and_each_skeleton_once():
+    """A score compared with nothing changes no weight: a skeleton whose first mechanism step
+    has no rival grounding (upcoming or scored before) is not probed; two rivals are, once."""
+    from pdsketch_mech.planner.probes import GroundingProbes
+    from pdsketch_mech.planner.refine import Step
+
+    probed = []
+    sampler = SimpleNamespace(promise=GroundingPromise(),
+                              probe=lambda world, step, rng: probed.append(step.mechanism_args) or True)
+    task = SimpleNamespace(operators=[SimpleNamespace(label=f"op{i}") for i in range(3)])
+    world = SimpleNamespace(restore=lambda snapshot: None)
+    probes = GroundingProbes(task, sampler, world, None, seed=0)
+
+    def skeleton(op, grounding, promised=HOLD_BOX):
+        first = Step("grasp", (grounding[1][0], "#g"), 0, grounding[0], (), 0, grounding[1])
+        last = Step("place", (grounding[1][0], "#p"), 0, grounding[0], promised, 1, grounding[1])
+        return [op], [first, last], None
+
+    probes.probe([skeleton(0, TOOL), skeleton(2, TOOL_AS_TARGET, HOLD_TOOL)])
+    assert probed == []                                   # no rivals: nothing to compare
+    probes.probe([skeleton(0, TOOL), skeleton(1, APPLE), skeleton(2, TOOL_AS_TARGET, HOLD_TOOL)])
+    assert probed == [TOOL[1], APPLE[1]] and probes.count == 2
+    probes.probe([skeleton(0, TOOL), skeleton(1, APPLE)])
+    assert probes.count == 2                              # each skeleton once

@@ -5,7 +5,8 @@ Adaptive, in PDDLStream's sense: work is shared between refining the skeletons f
 and taking new ones from the symbolic search (schedule.py; supply.py hands them out), so a
 skeleton that needs many samples is not starved by the search for new ones, and a deep one
 (a tool use 20 skeletons down) is reached within a bounded amount of work. Skeletons that
-wander (detours.py), mechanism groundings the learned samplers doubt (promise.py) and
+wander (detours.py), mechanism groundings the learned samplers doubt (promise.py; probed
+before their skeletons are created, probes.py) and
 skeletons whose steps keep failing in other skeletons (bottlenecks.py) get less of it.
 """
 from __future__ import annotations
@@ -29,6 +30,7 @@ from .bottlenecks import SharedOutcomes
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
 from .pristine import PristineFailures
+from .probes import GroundingProbes
 from .refine import Refinement, Step, skeleton_groundings
 from .schedule import SLICE, heaviest, next_turn
 from .serialize import plan_entries
@@ -54,7 +56,6 @@ class PlanResult:
 # approach from wherever the arm is, so on their own these never enable anything; the
 # symbolic search skips them unless a mechanism lists them as steps.
 FREE_MOTIONS = ("transit", "move")
-PROBE = 1   # a probe's random stream, apart from its skeleton's (seeded by the same labels)
 
 
 def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = True):
@@ -118,29 +119,14 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 * unblocked.weight(refinement.steps)
                 * outcomes.weight(refinement.outcome_keys, refinement.rank))
 
-    probed: set = set()
-
-    def probe(window) -> None:
-        """Upcoming skeletons that begin with a mechanism's first step, in the scene as it
-        begins: one batch of that step's proposals scored, none verified, so that which of
-        the mechanism's groundings its learned samplers prefer is known before any of them
-        gets work (on lever-test-3, the 0.5 kg spoon's placements were simulated twice
-        before the skeleton with an apple as the weight, which the classifiers preferred
-        from its first grasp on, was created)."""
-        for plan, steps, _ in window:
-            first = steps[0] if steps else None
-            if tuple(plan) in probed or first is None or first.mechanism is None or first.index:
-                continue
-            probed.add(tuple(plan))
-            world.restore(initial)
-            label = " ".join(task.operators[o].label for o in plan)
-            sampler.probe(world, first.context(), np.random.default_rng([seed, zlib.crc32(label.encode()), PROBE]))
+    probes = GroundingProbes(task, sampler, world, initial, seed)
 
     try:
         while time.perf_counter() < deadline:
             window = supply.upcoming()
             if sampler.learned:
-                probe(window)
+                probes.probe(window)
+                stats["probes"] = probes.count
             # The first upcoming skeleton with the fewest unexplained detours, and the groundings
             # the learned samplers prefer, comes next (supply.py, promise.py).
             detour_weights = [supply.weight(plan) * sampler.promise.weight(skeleton_groundings(steps))

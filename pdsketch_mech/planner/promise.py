@@ -19,9 +19,8 @@ constant factor. Rivals are the groundings of the same mechanism that promise th
 the tool within reach with the apple serves another subgoal and scores high for it; it says
 nothing about which object should pull the box. Two rivals are compared on the sum over the
 variables both were scored on. A grounding no batch has scored yet is not held back; so that
-most are scored before any gets work, the planner probes each upcoming skeleton that begins
-with a mechanism's first step (bilevel.py: one batch of that step's proposals scored where
-the scene begins, none verified). Measured with probes against without (`bench samplers NAME
+rivals are scored before any gets work, the planner probes upcoming skeletons that begin
+with a mechanism's first step (probes.py). Measured with probes against without (`bench samplers NAME
 --instances 10 --runs 3`, learned runs, values simulated, median / geometric mean): Lever
 12 / 17.4 -> 7 / 14.9 (the 0.5 kg spoon's placements were tried before an apple's, which the
 classifiers preferred from its first grasp on), Hook 30 / 33.3 -> 23 / 28.8, Poking
@@ -58,6 +57,10 @@ class GroundingPromise:
             total = self._stats[(mechanism, tuple(args))].setdefault(variable, [0.0, 0])
             total[0] += best_log_score
             total[1] += 1
+
+    def rivals(self, mechanism: str, promised: Promised) -> List[Grounding]:
+        """The groundings of `mechanism` promising `promised` that weights were asked about."""
+        return sorted(self._rivals.get((mechanism, promised), ()))
 
     def mean(self, grounding: Grounding, variable: str) -> Optional[float]:
         """The mean best score of the grounding's batches for `variable` (None: none yet)."""
