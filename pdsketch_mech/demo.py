@@ -38,11 +38,15 @@ def _folder_ok(path: Optional[str]) -> bool:
 
 
 def record(args) -> int:
+    from .envs.demos.run import DEMOS
     from .envs.tasks import TASKS
     from .learning.recording import RecordingExists, recording_paths, save_recording
 
-    if args.name not in TASKS:
-        return fail(f"unknown demonstration '{args.name}'; demonstrations: {', '.join(TASKS)}")
+    if args.name in TASKS and args.name not in DEMOS:
+        return fail(f"task '{args.name}' has no demonstration: it is solved by composing the learned "
+                    f"mechanisms; demonstrations: {', '.join(DEMOS)}")
+    if args.name not in DEMOS:
+        return fail(f"unknown demonstration '{args.name}'; demonstrations: {', '.join(DEMOS)}")
     out = os.path.abspath(args.out or DEMOS_DIR)
     if not os.path.isdir(out):
         return fail(f"{args.out}: no such folder")
@@ -141,10 +145,12 @@ def show(args) -> int:
 
 
 def list_demos(args) -> int:
+    from .envs.demos.run import DEMOS
     from .envs.tasks import TASKS
 
     for task in TASKS.values():
-        print(f"{task.name:14s} {task.title}: {task.demo}")
+        if task.name in DEMOS:
+            print(f"{task.name:14s} {task.title}: {task.demo}")
     return EXIT_OK
 
 

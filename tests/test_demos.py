@@ -96,9 +96,17 @@ def test_demo_command_rejects_bad_requests(tmp_path, capsys):
     (tmp_path / "com.json").write_text("{}")
     assert demo_cli.main(["record", "com", "--out", str(tmp_path)]) == 2
     assert demo_cli.main(["show", str(tmp_path / "nothing.npz"), "--strip", str(tmp_path / "s.png")]) == 2
+    # A compositional task is a distribution without a script: one line, not a KeyError.
+    assert demo_cli.main(["record", "push-pick-hook", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 4 and all(line.startswith("error: ") for line in err)
+    assert len(err) == 5 and all(line.startswith("error: ") for line in err)
     assert "exists (use --force" in err[2]
+    assert "'push-pick-hook' has no demonstration" in err[4]
+
+
+def test_demo_list_names_only_tasks_with_a_script(capsys):
+    assert demo_cli.main(["list"]) == 0
+    assert [line.split()[0] for line in capsys.readouterr().out.splitlines()] == list(DEMOS)
 
 
 def test_record_and_show_a_demo(tmp_path, capsys):
