@@ -13,12 +13,13 @@
         Self-play (paper Alg. 2) of mechanism NAME (domains/mechanisms/NAME.pddl) on train
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
-        out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped.
+        out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped. A
+        folder of other options, or of another definition of the mechanism, is refused.
         --split test plays test instances instead (default DIR out/selfplay-test/NAME/):
         data for `evaluate`; `train` refuses a folder of them.
     train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force] [--compare N]
         Self-play as above (only the episodes not on disk yet), then train a classifier per
-        grasp, contact and placement parameter on every episode on disk, and write the
+        grasp, contact and placement parameter on episodes 0..N-1, and write the
         checkpoint (default domains/mechanisms/NAME.samplers.safetensors), its .json
         metadata, a report (.md and .png beside it), and point the fragment's `:sampler` at
         the checkpoint. An existing checkpoint is replaced only with --force. --compare N then
@@ -41,7 +42,7 @@ import os
 import re
 import sys
 import time
-from typing import List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence
 
 from .cli import (
     EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, progress_bar, run_and_exit, seconds, seed, whole,
@@ -272,12 +273,13 @@ def selfplay_command(args) -> int:
     if isinstance(prepared, int):
         return prepared
     config, out, _ = prepared
-    return _selfplay(args, config, out)
+    manifest = _selfplay(args, config, out)
+    return EXIT_OK if manifest["totals"]["successes"] else EXIT_UNSOLVED
 
 
 def train_command(args) -> int:
     from .learning.train_command import checkpoint_for, default_config, train_and_save
-    from .learning.selfplay_store import StoreError
+    from .learning.selfplay_store import StoreError, first_episodes
 
     prepared = _prepare_selfplay(args)
     if isinstance(prepared, int):
@@ -292,28 +294,37 @@ def train_command(args) -> int:
     if os.path.exists(checkpoint) and not args.force:
         return fail(f"{checkpoint} exists: --force replaces it (and its metadata and report)")
     started = time.perf_counter()
-    status = _selfplay(args, config, out)
+    manifest = _selfplay(args, config, out)
     selfplay_s = time.perf_counter() - started
-    if status != EXIT_OK:
-        return status
-    from .learning.selfplay_store import done_episodes, open_folder
-    # Training reads every episode on disk: the command that reproduces the checkpoint names
-    # them all, also when an earlier run left more than this one asked for.
-    episodes = max(done_episodes(out)) + 1   # self-play succeeded: at least 0..--episodes-1 are there
-    command = " ".join(["python -m pdsketch_mech.learn train", args.name, "--episodes", str(episodes),
-                        "--seed", str(args.seed), "--budget", str(args.budget)]
-                       + (["--epochs", str(args.epochs)] if args.epochs is not None else [])
-                       + (["--grounding", args.grounding] if args.grounding != "goal" else [])
-                       + (["--context", str(args.context)] if args.context else []) + _inputs(args, config, out))
-    info = {"command": command, "task": config.task, "seconds_selfplay": selfplay_s}
+    # Training reads episodes 0..--episodes-1 (all on disk now), not what an earlier run left
+    # beyond them: the same command gives the same checkpoint.
+    used = first_episodes(manifest, args.episodes)["totals"]
+    if not used["successes"]:
+        return _skipped(args, config, out, used)
+    words = ["python -m pdsketch_mech.learn train", args.name] + _data_options(args, config, out)
+    if args.epochs is not None:
+        words += ["--epochs", str(args.epochs)]
+    if args.checkpoint is not None:
+        words += ["--checkpoint", _shown(checkpoint)]
+    info = {"command": " ".join(words), "task": config.task, "seconds_selfplay": selfplay_s}
     try:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
-                                 default_config(args.epochs, args.seed), open_folder(out, config.identity()), info)
+                                 default_config(args.epochs, args.seed), manifest, info, count=args.episodes)
     except StoreError as exc:
         return fail(str(exc))
     if trained and args.compare:
         _compare(mechanism.name, config, checkpoint, args.compare)
     return EXIT_OK if trained else EXIT_UNSOLVED
+
+
+def _skipped(args, config, out: str, used: Dict[str, int]) -> int:
+    """Say why nothing was trained: no episode succeeded, so no proposal is labelled 1."""
+    timed = used["timed_out"]
+    hint = (f"{timed} of them hit --time-limit {config.time_limit:g} s: raise it" if timed
+            else "raise --budget or --episodes")
+    print(f"train {args.name}: skipped: none of the {used['episodes']} self-play episodes in {out} succeeded, "
+          f"so no proposal is labelled 1 to learn from ({hint})", file=sys.stderr)
+    return EXIT_UNSOLVED
 
 
 def _compare(name: str, config, checkpoint: str, instances: int) -> None:
@@ -360,7 +371,7 @@ def _prepare_selfplay(args):
                             split, args.grounding, args.context)
     try:
         os.makedirs(out, exist_ok=True)
-        open_folder(out, config.identity())
+        open_folder(out, config.identity(), _shown(config.fragment))
     except StoreError as exc:
         return fail(str(exc))
     except OSError as exc:
@@ -370,23 +381,36 @@ def _prepare_selfplay(args):
     return config, out, mechanism
 
 
-def _selfplay(args, config, out: str) -> int:
+def _data_options(args, config, out: str) -> List[str]:
+    """The options that say which self-play data a command plays or reads (the folder's
+    configuration, which a rerun must repeat, and the other inputs)."""
+    from .learning.selfplay import SelfPlayConfig
+    return (["--episodes", str(args.episodes), "--seed", str(args.seed), "--budget", str(args.budget)]
+            + (["--time-limit", f"{config.time_limit:g}"] if config.time_limit != SelfPlayConfig.time_limit else [])
+            + (["--split", config.split] if config.split != "train" else [])
+            + (["--grounding", config.grounding] if config.grounding != "goal" else [])
+            + (["--context", str(config.context)] if config.context else []) + _inputs(args, config, out))
+
+
+def _selfplay(args, config, out: str) -> Dict[str, object]:
+    """Play the episodes of 0..--episodes-1 not on disk yet; returns the folder's manifest."""
     from .learning.selfplay_run import pending, run_selfplay
 
     start = time.perf_counter()
     todo = len(pending(out, args.episodes))
+    if todo < args.episodes:
+        print(f"resuming: {args.episodes - todo} of {args.episodes} episodes on disk in {out}"
+              + ("" if todo else ", none to play"), file=sys.stderr)
     counts = {"successes": 0, "samples": 0}
-    command = " ".join(["python -m pdsketch_mech.learn selfplay", args.name, "--episodes", str(args.episodes),
-                        "--seed", str(args.seed), "--budget", str(args.budget)]
-                       + (["--split", config.split] if config.split != "train" else [])
-                       + (["--grounding", config.grounding] if config.grounding != "goal" else [])
-                       + (["--context", str(config.context)] if config.context else []) + _inputs(args, config, out))
-    with progress_bar(total=todo, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}") as bar:
+    command = " ".join(["python -m pdsketch_mech.learn selfplay", args.name] + _data_options(args, config, out))
+    with progress_bar(total=todo, unit="episode", dynamic_ncols=True, desc=f"selfplay {args.name}",
+                      disable=not todo) as bar:  # nothing to play: no empty bar
         def progress(row) -> None:
             counts["successes"] += row["success"]
             counts["samples"] += row["samples"]
             rate = counts["samples"] / max(1e-9, time.perf_counter() - start)
-            bar.set_postfix_str(f"{counts['successes']} succeeded, {rate:.1f} samples/s")
+            # refresh=False: a redraw here would show this episode's success beside the old count.
+            bar.set_postfix_str(f"{counts['successes']} succeeded, {rate:.1f} samples/s", refresh=False)
             bar.update(1)
         manifest = run_selfplay(config, out, args.episodes, args.workers, progress, command, args.backend)
     totals = manifest["totals"]
@@ -394,8 +418,9 @@ def _selfplay(args, config, out: str) -> int:
     share = 100.0 * totals["successes"] / max(1, totals["episodes"])
     print(f"selfplay {args.name}: {totals['episodes']} episodes in {out} ({todo} run now, "
           f"{time.perf_counter() - start:.1f} s), {totals['successes']} succeeded ({share:.0f} %), "
+          f"{totals['timed_out']} hit --time-limit {config.time_limit:g} s, "
           f"{totals['samples']} samples ({totals['positives']} labelled 1), {size / 1e6:.2f} MB", file=sys.stderr)
-    return EXIT_OK if totals["successes"] else EXIT_UNSOLVED
+    return manifest
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -497,13 +497,13 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
                        "--fragment", com_fragment, "--task", "com"]) == 2  # not replaced without --force
     assert "exists: --force replaces it" in capsys.readouterr().err
-    # Training reads all 4 episodes on disk, so the recorded command asks for 4, not 2.
+    # Training reads episodes 0 and 1 of the 4 on disk, and the recorded command asks for 2.
     assert learn.main(["train", "com", "--episodes", "2", "--epochs", "2", "--out", data,
                        "--fragment", com_fragment, "--task", "com", "--force"]) == 0
     import json
     with open(os.path.join(folder, "com.samplers.json"), encoding="utf-8") as handle:
         meta = json.load(handle)
-    assert meta["episodes"] == 4 and "--episodes 4 " in meta["command"] + " "
+    assert meta["episodes"] == 2 and "--episodes 2 " in meta["command"] + " "
     # Re-run as recorded, the command reads this fragment and data, not the repository's.
     assert f" --fragment {com_fragment} --task com --out {data}" in meta["command"]
     problem = str(tmp_path / "p.pddl")

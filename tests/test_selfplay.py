@@ -177,7 +177,7 @@ def test_a_folder_older_than_grounding_policies_resumes_as_any(tmp_path):
 
     any_config = replace(CONFIG, grounding="any")
     identity = any_config.identity()
-    legacy = {k: v for k, v in identity.items() if k not in ("grounding", "context")}
+    legacy = {k: v for k, v in identity.items() if k not in ("grounding", "context", "mechanism_hash")}
     (tmp_path / "manifest.json").write_text(json.dumps({"schema": "pdsketch_mech.selfplay/2", "config": legacy}))
     assert read_manifest(str(tmp_path))["config"]["grounding"] == "any"
     assert read_manifest(str(tmp_path))["config"]["context"] == 0
@@ -258,3 +258,93 @@ def test_the_log_keeps_rejected_proposals_and_each_values_proposal():
     assert [s.verified for s in log.samples] == [0, 1]
     assert log.samples[0].proposal[0] == 0.01 and log.samples[1].proposal[0] == 0.02
     assert log.label([{"#g": good}]) == 1 and [s.label for s in log.samples] == [0, 1]
+
+
+@pytest.fixture()
+def com_copy(tmp_path):
+    """A copy of the Center-of-Mass fragment (without its checkpoint) and the basis it extends."""
+    import shutil
+    shutil.copy(os.path.join(ROOT, "domains", "basis.pddl"), tmp_path / "basis.pddl")
+    (tmp_path / "mechanisms").mkdir()
+    path = tmp_path / "mechanisms" / "com.pddl"
+    with open(default_fragment("com"), encoding="utf-8") as handle:
+        path.write_text(handle.read().replace('\n    :sampler "com.samplers.safetensors"', ""))
+    return str(path)
+
+
+def learn_main(capsys, *argv) -> tuple:
+    """`learn` in this process (the fragment parsed afresh): (exit status, stderr)."""
+    from pdsketch_mech import learn
+    from pdsketch_mech.learning.selfplay import _domain
+    _domain.cache_clear()  # a fresh process would read the edited fragment
+    capsys.readouterr()
+    status = learn.main(list(argv))
+    return status, capsys.readouterr().err
+
+
+def test_data_of_another_definition_of_the_mechanism_are_refused(com_copy, tmp_path, capsys):
+    import json
+    from pdsketch_mech.learning.selfplay import _domain, find_mechanism
+    from pdsketch_mech.learning.selfplay_store import read_manifest
+    from pdsketch_mech.samplers.learned.checkpoint import mechanism_hash
+
+    data, weights = str(tmp_path / "data"), str(tmp_path / "w.samplers.safetensors")
+    options = ["com", "--episodes", "1", "--budget", "60", "--fragment", com_copy, "--task", "com", "--out", data]
+    assert learn_main(capsys, "selfplay", *options)[0] == 0
+    # The folder records the definition by the hash a checkpoint of it records.
+    digest = mechanism_hash(find_mechanism(_domain(com_copy), "com"))
+    assert read_manifest(data)["config"]["mechanism_hash"] == digest
+    with open(com_copy, encoding="utf-8") as handle:
+        text = handle.read()
+    with open(com_copy, "w", encoding="utf-8") as handle:
+        handle.write(text.replace("?p ", "?q ").replace("?p)", "?q)"))   # rename a parameter
+    for argv in (["selfplay", *options], ["train", *options, "--checkpoint", weights]):
+        status, err = learn_main(capsys, *argv)
+        assert status == 2 and err.count("\n") == 1, err
+        assert err.startswith(f"error: {data} holds self-play episodes of another definition of mechanism com "
+                              f"than the one in {com_copy}; use a new --out, or delete the folder")
+    # A folder made before the hash was recorded is not refused outright, but training
+    # refuses episodes that draw parameters the mechanism does not have.
+    manifest = read_manifest(data)
+    del manifest["config"]["mechanism_hash"]
+    with open(os.path.join(data, "manifest.json"), "w", encoding="utf-8") as handle:
+        json.dump(manifest, handle)
+    status, err = learn_main(capsys, "train", *options, "--checkpoint", weights)
+    assert status == 2 and "(they draw ?p, which it does not have); use a new --out" in err.splitlines()[-1]
+    assert not os.path.exists(weights)
+
+
+def test_train_says_why_it_trained_nothing(com_copy, tmp_path, capsys):
+    status, err = learn_main(capsys, "train", "com", "--episodes", "2", "--time-limit", "0.01", "--fragment",
+                             com_copy, "--task", "com", "--out", str(tmp_path / "data"),
+                             "--checkpoint", str(tmp_path / "w.samplers.safetensors"))
+    lines = err.splitlines()
+    assert status == 1
+    assert ", 0 succeeded (0 %), 2 hit --time-limit 0.01 s, " in lines[-2]
+    assert lines[-1] == (f"train com: skipped: none of the 2 self-play episodes in {tmp_path / 'data'} succeeded, "
+                         "so no proposal is labelled 1 to learn from (2 of them hit --time-limit 0.01 s: raise it)")
+
+
+def test_resume_is_announced_and_train_reads_the_first_n_episodes(com_copy, tmp_path, capsys):
+    import json
+    import re
+
+    data, weights = str(tmp_path / "data"), str(tmp_path / "w.samplers.safetensors")
+    options = ["com", "--budget", "60", "--fragment", com_copy, "--task", "com", "--out", data]
+    assert learn_main(capsys, "selfplay", *options, "--episodes", "1")[0] == 0
+    status, err = learn_main(capsys, "selfplay", *options, "--episodes", "3")
+    assert status == 0 and err.startswith(f"resuming: 1 of 3 episodes on disk in {data}\n")
+    # The bar's success count is never ahead of the episodes it has counted.
+    bars = re.findall(r"(\d+)/2 \[[^]]*?(\d+) succeeded", err)
+    assert bars and all(int(succeeded) <= int(done) for done, succeeded in bars), bars
+    status, err = learn_main(capsys, "train", *options, "--episodes", "2", "--epochs", "1", "--checkpoint", weights)
+    assert status == 0, err
+    assert err.count("train com: 100%") == 1   # the bar's last line, once
+    with open(weights.replace(".safetensors", ".json"), encoding="utf-8") as handle:
+        meta = json.load(handle)
+    # Episodes 0 and 1 of the 3 on disk, and the command that makes this checkpoint again.
+    assert meta["episodes"] == 2
+    assert meta["command"] == (f"python -m pdsketch_mech.learn train com --episodes 2 --seed 0 --budget 60 "
+                               f"--fragment {com_copy} --task com --out {data} --epochs 1 --checkpoint {weights}")
+    with open(weights.replace(".safetensors", ".md"), encoding="utf-8") as handle:
+        assert "Self-play: 2 episodes" in handle.read()

@@ -13,7 +13,7 @@ is kept, each kept row weighted by how many it stands for.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -82,9 +82,10 @@ def canonical(numbers: np.ndarray, kind: str) -> np.ndarray:
     return out
 
 
-def read_episodes(folder: str) -> List[Dict[str, np.ndarray]]:
-    """Every episode with a grounding and samples, in episode order."""
-    episodes = [read_episode(folder, e) for e in done_episodes(folder)]
+def read_episodes(folder: str, count: Optional[int] = None) -> List[Dict[str, np.ndarray]]:
+    """Every episode with a grounding and samples, in episode order (only those of
+    0..count-1 if `count` is given)."""
+    episodes = [read_episode(folder, e) for e in done_episodes(folder) if count is None or e < count]
     if not episodes:
         raise StoreError(f"{folder}: no self-play episodes")
     return [e for e in episodes if e["episode_objects"].shape[1] and len(e["label"])]

@@ -46,6 +46,7 @@ from ..planner.refine import Refinement, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
 from ..samplers.learned.encoding import VALUE_WIDTH
+from ..samplers.learned.checkpoint import mechanism_hash
 from ..samplers.learned.context import context_objects
 from .selfplay_record import MAX_PARENTS, SampleLog
 
@@ -67,10 +68,13 @@ class SelfPlayConfig:
     context: int = 0        # nearest other bodies recorded with the mechanism's objects (learned/context.py)
 
     def identity(self) -> Dict[str, object]:
-        """What must match for two runs to write into the same folder."""
+        """What must match for two runs to write into the same folder: the options, and the
+        mechanism's definition (the hash a checkpoint records), so that data played before
+        an edit of the fragment are not trained on after it."""
         return {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
                 "time_limit": self.time_limit, "split": self.split, "grounding": self.grounding,
-                "context": self.context}
+                "context": self.context,
+                "mechanism_hash": mechanism_hash(find_mechanism(_domain(self.fragment), self.mechanism))}
 
 
 def episode_seeds(base: int, episode: int) -> Tuple[int, int]:

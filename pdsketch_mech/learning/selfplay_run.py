@@ -87,7 +87,7 @@ def run_selfplay(config: SelfPlayConfig, folder: str, episodes: int, workers: in
                  backend: str = "local") -> Dict[str, object]:
     """Run the episodes of 0..episodes-1 not on disk yet; returns the manifest. Each finished
     episode is written (atomically) and recorded in the manifest before the next is awaited."""
-    manifest = open_folder(folder, config.identity())
+    manifest = open_folder(folder, config.identity(), config.fragment)
     os.makedirs(folder, exist_ok=True)
     todo = pending(folder, episodes)
     update_manifest(folder, manifest, [], command)

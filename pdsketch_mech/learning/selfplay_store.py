@@ -15,7 +15,7 @@ import glob
 import json
 import os
 import re
-from typing import Dict, Iterable, List, Optional
+from typing import Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
 
@@ -76,13 +76,28 @@ def read_manifest(folder: str) -> Optional[Dict[str, object]]:
     return manifest
 
 
-def open_folder(folder: str, identity: Dict[str, object]) -> Dict[str, object]:
+def check_definition(folder: str, theirs: Dict[str, object], digest: object, fragment: str) -> None:
+    """StoreError if the data were played with another definition of the mechanism than
+    `digest` (`mechanism_hash` of the one in `fragment`). Folders made before the hash was
+    recorded have none: they are not checked."""
+    if theirs.get("mechanism_hash") not in (None, digest):
+        raise StoreError(f"{folder} holds self-play episodes of another definition of mechanism "
+                         f"{theirs.get('mechanism')} than the one in {fragment}; use a new --out, or delete "
+                         "the folder to play them again")
+
+
+def open_folder(folder: str, identity: Dict[str, object], fragment: str = "the fragment") -> Dict[str, object]:
     """The manifest of `folder` for a run of `identity` (a new one if there is none);
-    StoreError if the folder holds another configuration's data."""
+    StoreError if the folder holds another configuration's data, or data of another
+    definition of the mechanism (`identity`'s mechanism_hash) than the one in `fragment`."""
     manifest = read_manifest(folder)
     if manifest is not None:
         theirs = manifest["config"]
-        differs = [f"{k} {theirs.get(k)!r} (this run: {v!r})" for k, v in identity.items() if theirs.get(k) != v]
+        check_definition(folder, theirs, identity.get("mechanism_hash"), fragment)
+        if theirs.get("mechanism_hash") is None and not done_episodes(folder):
+            theirs["mechanism_hash"] = identity.get("mechanism_hash")  # no episode yet: record it from now on
+        differs = [f"{k} {theirs.get(k)!r} (this run: {v!r})" for k, v in identity.items()
+                   if theirs.get(k) != v and k != "mechanism_hash"]
         if differs:
             raise StoreError(f"{folder} holds self-play data of another configuration: " + ", ".join(differs)
                              + "; use another --out or the same options")
@@ -98,14 +113,25 @@ def update_manifest(folder: str, manifest: Dict[str, object], summaries: Iterabl
     rows = {int(r["episode"]): r for r in manifest.get("episodes", [])}
     rows.update({int(r["episode"]): r for r in summaries})
     manifest["episodes"] = [rows[k] for k in sorted(rows)]
-    done = manifest["episodes"]
-    manifest["totals"] = {"episodes": len(done), "successes": sum(bool(r["success"]) for r in done),
-                          "samples": sum(int(r["samples"]) for r in done),
-                          "positives": sum(int(r["positives"]) for r in done)}
+    manifest["totals"] = totals(manifest["episodes"])
     if command:
         manifest["command"] = command
     os.makedirs(folder, exist_ok=True)
     write_json(os.path.join(folder, "manifest.json"), manifest)
+
+
+def totals(rows: Sequence[Dict[str, object]]) -> Dict[str, int]:
+    """The manifest's totals over its episode rows."""
+    return {"episodes": len(rows), "successes": sum(bool(r["success"]) for r in rows),
+            "samples": sum(int(r["samples"]) for r in rows), "positives": sum(int(r["positives"]) for r in rows),
+            "timed_out": sum(bool(r.get("timed_out")) for r in rows)}
+
+
+def first_episodes(manifest: Dict[str, object], count: int) -> Dict[str, object]:
+    """A copy of the manifest that keeps episodes 0..count-1 only (what `train --episodes
+    count` trains on), its totals theirs."""
+    rows = [r for r in manifest.get("episodes", []) if int(r["episode"]) < count]
+    return {**manifest, "episodes": rows, "totals": totals(rows)}
 
 
 def summary(arrays: Dict[str, np.ndarray]) -> Dict[str, object]:

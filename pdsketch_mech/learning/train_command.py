@@ -7,14 +7,15 @@ fragment's `:sampler` line.
     domains/mechanisms/NAME.pddl                   gains `:sampler "NAME.samplers.safetensors"`
 
 Self-play data stay in the data folder (default out/selfplay/NAME): a rerun with more
-episodes only plays the missing ones, and training always reads every episode on disk.
+episodes only plays the missing ones, and training reads episodes 0..N-1 (--episodes N),
+also when an earlier run left more on disk.
 """
 from __future__ import annotations
 
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, Dict, Optional, Tuple, Union
+from typing import TYPE_CHECKING, Dict, Optional, Sequence, Tuple, Union
 
 from ..cli import EXIT_BAD_INPUT, fail, print_error, progress_bar, write_text
 from ..lang.errors import PddlError
@@ -24,6 +25,7 @@ from ..lang.edit import set_mechanism_sampler
 from ..samplers.learned.checkpoint import SUFFIX, metadata_path, save
 from .sampler_data import parent_specs, read_episodes
 from .sampler_report import write_report
+from .selfplay_store import StoreError, first_episodes
 from .sampler_training import TrainConfig, train_mechanism
 
 if TYPE_CHECKING:
@@ -71,22 +73,39 @@ def point_fragment_at(fragment: str, name: str, checkpoint: str) -> bool:
     return True
 
 
+def check_parameters(data: str, fragment: str, mechanism, variables: Sequence[str]) -> None:
+    """StoreError if the episodes drew values for variables the mechanism does not have: they
+    were played with another definition (a folder older than the manifest's mechanism_hash)."""
+    foreign = [v for v in variables if v not in {p.name for p in mechanism.parameters}]
+    if foreign:
+        raise StoreError(f"{data} holds self-play episodes of another definition of mechanism {mechanism.name} "
+                         f"than the one in {fragment} (they draw {', '.join(foreign)}, which it does not have); "
+                         "use a new --out, or delete the folder to play them again")
+
+
 def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: str, config: TrainConfig,
-                   manifest: Dict[str, object], info: Dict[str, object], quiet: bool = False) -> int:
-    """Train on every episode in `data`, write checkpoint + metadata + report, point the
-    fragment at the checkpoint. Returns how many classifiers were trained."""
-    episodes = read_episodes(data)
+                   manifest: Dict[str, object], info: Dict[str, object], quiet: bool = False,
+                   count: Optional[int] = None) -> int:
+    """Train on the episodes 0..count-1 in `data` (all if None), write checkpoint + metadata +
+    report, point the fragment at the checkpoint. Returns how many classifiers were trained."""
+    episodes = read_episodes(data, count)
+    if count is not None:
+        manifest = first_episodes(manifest, count)  # the report describes the data trained on
+    specs = parent_specs(episodes)
+    check_parameters(data, fragment, mechanism, list(specs))
     started = time.perf_counter()
-    total = len(parent_specs(episodes)) * config.epochs  # an upper bound: a parameter never used is skipped
+    total = len(specs) * config.epochs  # an upper bound: a parameter never used is skipped
     with progress_bar(total=total, unit="epoch", desc=f"train {name}", disable=quiet,
                       dynamic_ncols=True) as bar:
         def progress(variable: str, epoch: int, train_loss: float, held_loss: float) -> None:
+            # refresh=False: a redraw here would show the new epoch beside the old count.
             bar.set_postfix_str(f"{variable} epoch {epoch + 1}/{config.epochs}: loss {train_loss:.3f}, "
-                                f"validation {held_loss:.3f}")
+                                f"validation {held_loss:.3f}", refresh=False)
             bar.update(1)
         model, reports = train_mechanism(episodes, config, progress)
-        bar.total = bar.n  # early stopping and skipped parameters end it before the bound
-        bar.refresh()
+        # Early stopping and skipped parameters end it before the bound; closing the bar draws
+        # it once more (a refresh here would print its last line twice into a log).
+        bar.total = bar.n
     info = {**info, "seconds_training": time.perf_counter() - started}
     rows = sum(r.rows for r in reports)
     meta = {"fragment": os.path.relpath(fragment, os.path.dirname(checkpoint)), "seed": config.seed,
