@@ -3,12 +3,15 @@
 Domain files are checked with everything they `:extends`; a problem is checked against the
 domain it names, found among the given files or beside the problem. Then everything `plan`
 validates before it searches: a domain's streams name samplers that exist, a problem for a
-domain with streams has a `:scene`, and a scene builds into a simulated world (assets exist,
+domain with streams has a `:scene`, a mechanism's learned samplers load (its `:sampler`
+checkpoint exists, is readable and was trained for this definition of the mechanism; not with
+`--no-learned-samplers`, as in `plan`), and a scene builds into a simulated world (assets exist,
 no object is inside another or the robot, far away or below the table: `world/build.py`).
 Where the scene and `:init` disagree on the contact graph, check warns as `plan` does.
 Exit 0 when every file is clean (warnings allowed), 2 otherwise, with one
-`FILE:LINE:COL: error: ...` line per failing file. Only a problem with a scene (or a domain
-with streams) loads the simulator: checking classical PDDL stays fast.
+`FILE:LINE:COL: error: ...` line per failing file (a problem whose domain is not found is
+not reported when a domain file given failed: that error is the one to read). Only a problem
+with a scene (or a domain with streams) loads the simulator: checking classical PDDL stays fast.
 """
 from __future__ import annotations
 
@@ -16,7 +19,7 @@ from typing import List, Optional, Sequence
 
 from .cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, print_error, print_warning, run_and_exit
 from .lang.errors import PddlError, PddlWarning, did_you_mean
-from .lang.loader import LoadedDomain, declared_domain_name, load_domain, load_problem
+from .lang.loader import DomainNotFound, LoadedDomain, declared_domain_name, load_domain, load_problem
 from .lang.nodes import Problem
 
 
@@ -46,6 +49,20 @@ def check_samplers(loaded: LoadedDomain) -> None:
                             f"{did_you_mean(name, SAMPLERS)}; known: {', '.join(sorted(SAMPLERS))}", stream.loc)
 
 
+def check_learned_samplers(loaded: LoadedDomain) -> None:
+    """The mechanisms' learned samplers load as `plan` loads them before it searches (it does
+    for a domain with streams); the same error otherwise."""
+    if not loaded.domain.streams or not any(m.sampler for m in loaded.domain.mechanisms):
+        return
+    from .samplers.learned.checkpoint import CheckpointError
+    from .samplers.learned.ranked import load_learned
+
+    try:
+        load_learned(loaded.domain.mechanisms)
+    except CheckpointError as error:
+        raise error.as_pddl_error() from None
+
+
 def check_scene(loaded: LoadedDomain, problem: Problem, path: str) -> List[PddlWarning]:
     """What `plan` checks of a problem's scene before searching; returns the warnings."""
     streams = bool(loaded.domain.streams)
@@ -73,7 +90,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         description="Parse and type-check .pddl domain and problem files (exit 0 clean, 2 on errors).")
     parser.add_argument("files", nargs="+", metavar="FILE", help="domain and problem files, in any order")
     parser.add_argument("-q", "--quiet", action="store_true", help="print errors and warnings only")
+    parser.add_argument("--no-learned-samplers", action="store_true",
+                        help="as plan's: do not load the mechanisms' learned samplers (a missing one is a warning)")
     args = parser.parse_args(argv)
+    learned = not args.no_learned_samplers
 
     domain_files = [f for f in args.files if declared_domain_name(f) is not None]
     problem_files = [f for f in args.files if f not in domain_files]
@@ -81,7 +101,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     failures = 0
     for path in domain_files:
         try:
-            domain = load_domain([path])
+            domain = load_domain([path], samplers_required=learned)
             for warning in domain.warnings:
                 print_warning(warning)
             check_samplers(domain)
@@ -89,18 +109,33 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print_error(error)
             failures += 1
             continue
-        loaded.append(domain)
+        loaded.append(domain)  # its problems are checked against it even if its checkpoints fail
+        try:
+            if learned:
+                check_learned_samplers(domain)
+        except PddlError as error:
+            print_error(error)
+            failures += 1
+            continue
         if not args.quiet:
             print(f"{path}: ok: {describe_domain(domain)}")
+    domain_failed = failures > 0
     for path in problem_files:
         try:
-            domain, problem = load_problem(path, loaded)
+            domain, problem = load_problem(path, loaded, samplers_required=learned)
             if all(domain is not d for d in loaded):  # found beside the problem: not checked above
                 for warning in domain.warnings:
                     print_warning(warning)
                 check_samplers(domain)
+                if learned:
+                    check_learned_samplers(domain)
             for warning in check_scene(domain, problem, path):
                 print_warning(warning)
+        except DomainNotFound as error:
+            if not domain_failed:  # else most likely the domain that failed: its error is the one to read
+                print_error(error)
+            failures += 1
+            continue
         except PddlError as error:
             print_error(error)
             failures += 1

@@ -53,11 +53,13 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     started = process.started()  # the time limit covers start-up, loading and world building too
     args = _parser().parse_args(argv)
+    # A checkpoint that will not be loaded need not exist (a warning says it is missing).
+    samplers_required = not (args.no_learned_samplers or args.basis_only)
     try:
-        loaded = load_domain([args.domain, *args.mechanisms])
+        loaded = load_domain([args.domain, *args.mechanisms], samplers_required)
         for warning in loaded.warnings:
             print_warning(warning)
-        loaded, problem = load_problem(args.problem, [loaded])
+        loaded, problem = load_problem(args.problem, [loaded], samplers_required)
         inputs = [*loaded.files, args.problem]
         for error in (output_error(args.json, "--json", inputs, (".json",)),
                       output_error(args.render, "--render", inputs, (".gif",))):

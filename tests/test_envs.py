@@ -135,6 +135,19 @@ def test_cli_writes_a_file_and_rejects_bad_requests(tmp_path, capsys):
     assert err[3] == "error: argument --seed: must be a whole number >= 0, got '-1'"
 
 
+def test_cli_refuses_to_replace_a_file_without_force(tmp_path, capsys):
+    """--out never replaces what the user had (a trained fragment, say) unless --force."""
+    out = tmp_path / "my-com.pddl"
+    out.write_text("(define (domain my-com))\n")
+    assert envs_main(["com", "--seed", "7", "--split", "test", "--out", str(out)]) == 2
+    assert out.read_text() == "(define (domain my-com))\n"
+    assert capsys.readouterr().err.splitlines() == [f"error: {out} exists (use --force to replace it)"]
+    assert envs_main(["com", "--seed", "7", "--split", "test", "--out", str(out), "--force"]) == 0
+    assert out.read_text() == sample(TASKS["com"], "test", 7).problem_text()
+    assert envs_main(["com", "--seed", "7", "--out", str(tmp_path), "--force"]) == 2
+    assert capsys.readouterr().err.splitlines()[-1] == f"error: --out {tmp_path}: is a folder"
+
+
 def test_cli_process_is_light_and_deterministic(tmp_path):
     """Writing a problem loads neither the simulator nor torch (it takes ~0.2 s: Python, numpy
     and the manifest), and the same seed gives the same bytes. Checked from the imports, not

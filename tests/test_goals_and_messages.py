@@ -2,12 +2,14 @@
 moves when it settles is reported; nothing the user wrote is silently ignored (a missing
 :sampler file, a mechanism's :certified, --validate, --no-learned-samplers)."""
 import os
+import shutil
 from collections import Counter
 
 import numpy as np
 import pytest
 
 from pdsketch_mech import check, plan
+from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.planner.bilevel import prepare_task
 from pdsketch_mech.planner.bindings import StepSampler
@@ -110,3 +112,83 @@ def test_a_checkpoint_that_cannot_be_loaded_stops_the_plan_unless_declined(write
     assert err.startswith("error: ") and "grab.samplers.json: not found" in err and len(err.splitlines()) == 1
     assert plan.main([fragment, problem_path, "--timeout", "60", "--no-learned-samplers"]) == 0
     assert "error" not in capsys.readouterr().err
+
+
+def test_a_missing_checkpoint_is_only_a_warning_where_it_would_not_be_loaded(write_files, capsys):
+    """--no-learned-samplers (the way out the outdated-checkpoint error names) also plans
+    past a :sampler file that is missing; without it the located error stays."""
+    fragment, problem_path = write_files(**{
+        "grab.pddl": MECHANISM.format(basis=BASIS, sampler='\n    :sampler "grab.samplers.safetensors"'),
+        "p.pddl": TWO_BLOCKS})
+    missing = (f"{fragment}:3:3: warning: mechanism 'grab-other': :sampler file 'grab.samplers.safetensors' not "
+               f"found (looked for {os.path.dirname(fragment)}/grab.samplers.safetensors); its learned samplers are "
+               "not used")
+    for flag in ("--no-learned-samplers", "--basis-only"):  # --skeletons: no search
+        assert plan.main([fragment, problem_path, flag, "--skeletons", "1"]) == 0
+        assert capsys.readouterr().err.splitlines()[0] == missing
+    assert check.main([fragment, problem_path, "--no-learned-samplers"]) == 0
+    assert capsys.readouterr().err.splitlines() == [missing]
+    assert plan.main([fragment, problem_path, "--skeletons", "1"]) == 2
+    assert capsys.readouterr().err.strip() == missing.replace("warning", "error").split("; its")[0]
+
+
+COM = os.path.join(ROOT, "domains", "mechanisms", "com.pddl")
+
+
+def com_copy(folder, edit=lambda text: text):
+    """domains/mechanisms/com.pddl, edited, as my-com.pddl in `folder` beside a copy of its
+    checkpoint, and a Center-of-Mass problem; returns (fragment, problem, weights file)."""
+    with open(COM) as handle:
+        text = handle.read().replace('"../basis.pddl"', f'"{BASIS}"')
+    fragment, problem = folder / "my-com.pddl", folder / "com-test-0.pddl"
+    fragment.write_text(edit(text))
+    problem.write_text(sample(TASKS["com"], "test", 0).problem_text())
+    for suffix in (".samplers.safetensors", ".samplers.json"):
+        shutil.copy(os.path.join(ROOT, "domains", "mechanisms", "com" + suffix), folder)
+    return str(fragment), str(problem), str(folder / "com.samplers.safetensors")
+
+
+def test_check_loads_the_learned_samplers_as_plan_does(tmp_path, capsys):
+    """A checkpoint outdated by a changed precondition: plan refuses it, and so does check,
+    with the same line; both accept it with --no-learned-samplers."""
+    fragment, problem, weights = com_copy(tmp_path)
+    assert check.main([fragment, problem]) == 0
+    capsys.readouterr()
+    fragment, problem, weights = com_copy(tmp_path, lambda text: text.replace(
+        ":precondition (and (handempty)", ":precondition (and (handempty) (not (fixed ?target))"))
+    assert check.main([fragment, problem]) == 2
+    out, err = capsys.readouterr()
+    assert err.splitlines() == [f"error: {weights} was trained for another definition of mechanism 'com' than the "
+                                f"one in {fragment}; retrain it (python -m pdsketch_mech.learn train com --fragment "
+                                f"{fragment} --force) or plan with --no-learned-samplers"]
+    assert out.splitlines()[-1].startswith(f"{problem}: ok")  # the problem itself is fine
+    assert plan.main([fragment, problem, "--timeout", "60"]) == 2
+    assert capsys.readouterr().err.splitlines() == err.splitlines()
+    assert check.main([fragment, problem, "--no-learned-samplers"]) == 0
+
+
+def test_a_checkpoint_of_another_mechanism_says_which_it_was_trained_for(tmp_path, capsys):
+    fragment, _, weights = com_copy(tmp_path, lambda text: text.replace("(:mechanism com", "(:mechanism my-com"))
+    assert check.main([fragment]) == 2
+    assert capsys.readouterr().err.splitlines() == [
+        f"error: {weights} was trained for mechanism 'com', not 'my-com' (in {fragment}); train one for it "
+        f"(python -m pdsketch_mech.learn train my-com --fragment {fragment}) or plan with --no-learned-samplers"]
+
+
+@pytest.mark.parametrize("text,message", [
+    ('{"schema": "pdsketch_mech.samplers/2",\n}', "{json}:2:1: error: the checkpoint's metadata is not valid JSON: "
+                                                  "Expecting property name enclosed in double quotes"),
+    ("[1, 2]", "error: {json}: not a learned-sampler checkpoint (pdsketch_mech.samplers/2)"),
+    ('{"schema": "pdsketch_mech.samplers/2", "mechanism": "com"}',
+     "error: {json}: the checkpoint's metadata is malformed (KeyError: 'parameters')"),
+], ids=["invalid JSON", "not an object", "no parameters"])
+def test_a_broken_checkpoint_metadata_file_is_named(tmp_path, capsys, text, message):
+    """Not the weights file: the JSON beside it, and where in it."""
+    fragment, problem, weights = com_copy(tmp_path)
+    metadata = tmp_path / "com.samplers.json"
+    metadata.write_text(text)
+    expected = [message.format(json=metadata)]
+    assert check.main([fragment]) == 2
+    assert capsys.readouterr().err.splitlines() == expected
+    assert plan.main([fragment, problem, "--timeout", "60"]) == 2
+    assert capsys.readouterr().err.splitlines() == expected

@@ -130,12 +130,35 @@ def test_stream_output_must_be_a_value_type(write_files, capsys):
     ("(clear a) (clear b)", "(clear a) (clear c)", "4:27: error: unknown object 'c'"),
     ("(on a b)", "(on a)", "5:10: error: predicate 'on' takes 2 arguments, got 1"),
     ("(:objects a b - block)", "(:objects a b a - block)", "3:17: error: object 'a' is declared twice"),
-    ("(:domain d)", "(:domain e)", "1:1: error: no domain named 'e' (domains: d; none beside the problem either)"),
+    ("(:domain d)", "(:domain e)",
+     "1:1: error: no domain named 'e' (domains: d; none of the domain files beside the problem declares it: {d})"),
 ], ids=["unknown object", "wrong arity in goal", "duplicate object", "unknown domain"])
 def test_problem_errors(write_files, capsys, old, new, message):
     domain, problem = write_files(**{"d.pddl": DOMAIN, "p.pddl": PROBLEM.replace(old, new)})
     status, err = run_check(capsys, domain, problem)
-    assert (status, err) == (2, f"{problem}:{message}")
+    assert (status, err) == (2, f"{problem}:{message.format(d=domain)}")
+
+
+def test_a_problem_beside_a_fragment_of_its_domain_says_which_files_to_give(write_files, capsys):
+    """The problem names the domain the fragment extends; the fragment declares its own name,
+    so it is not found beside the problem by name: the error says what to give instead."""
+    base, fragment, problem = write_files(**{
+        "base__d.pddl": DOMAIN, "frag.pddl": '(define (domain frag) (:extends "base/d.pddl"))', "p.pddl": PROBLEM})
+    status, err = run_check(capsys, problem)
+    assert (status, err) == (2, f"{problem}:1:1: error: no domain named 'd' (domains: none given); beside the problem, "
+                                f"{fragment} is a fragment of domain 'frag' that extends it: give that fragment, "
+                                f"or {base}, which declares 'd'")
+    assert check.main([fragment, problem]) == 0
+
+
+def test_a_failing_domain_is_the_only_error_for_its_problem(write_files, capsys):
+    """The problem's domain is the fragment that failed: its 'no domain named' would only mislead."""
+    fragment, problem = write_files(**{
+        "frag.pddl": '(define (domain frag) (:extends "d.pddl") (:predicates (clear ?x - blok)))',
+        "p.pddl": PROBLEM})
+    status, err = run_check(capsys, fragment, problem)
+    assert status == 2 and err.splitlines() == [f"{fragment}:1:1: error: extended domain file 'd.pddl' not found "
+                                                f"(looked for {os.path.dirname(fragment)}/d.pddl)"]
 
 
 SCENE = """

@@ -131,3 +131,17 @@ def test_render_path_is_checked_before_replay(tmp_path, capsys):
     path.write_text(json.dumps(VALID))
     assert replay.main([PICK, str(path), "--render", str(tmp_path / "nope" / "a.gif")]) == 2
     assert capsys.readouterr().err == f"error: --render {tmp_path}/nope/a.gif: folder {tmp_path}/nope does not exist\n"
+
+
+def test_a_fragment_beside_the_problem_is_named_when_its_domain_is_not_given(tmp_path, capsys, monkeypatch):
+    """The problem names mech-basis; the fragment beside it extends mech-basis under its own
+    name: the error names both files to give instead of saying nothing is there."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "my-com.pddl").write_text(f'(define (domain my-com) (:extends "{BASIS}"))\n')
+    (tmp_path / "p.pddl").write_text(open(PICK).read())
+    (tmp_path / "plan.json").write_text(json.dumps(VALID))
+    assert replay.main(["p.pddl", "plan.json"]) == 2
+    assert capsys.readouterr().err.splitlines() == [
+        "p.pddl:2:1: error: no domain named 'mech-basis' (domains: none given); beside the problem, my-com.pddl is a "
+        f"fragment of domain 'my-com' that extends it: give that fragment, or {BASIS}, which declares 'mech-basis'"]
+    assert replay.main(["p.pddl", "plan.json", "my-com.pddl"]) in (0, 1)

@@ -1,8 +1,9 @@
-"""`python -m pdsketch_mech.envs TASK --seed N [--split train|test] [--out FILE]`: a problem
-file drawn from a task distribution (`--canonical`: the canonical instance; `--list`: the tasks).
+"""`python -m pdsketch_mech.envs TASK --seed N [--split train|test] [--out FILE [--force]]`: a
+problem file drawn from a task distribution (`--canonical`: the canonical instance; `--list`:
+the tasks).
 
-The same task, split and seed always give the same bytes. Exit 0, or 2 with one
-`error:` line on stderr for a bad request.
+The same task, split and seed always give the same bytes. An existing --out file is replaced
+only with --force. Exit 0, or 2 with one `error:` line on stderr for a bad request.
 """
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import os
 import sys
 from typing import Optional, Sequence
 
-from ..cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, run, whole, write_text
+from ..cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, output_error, run, whole, write_text
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -25,6 +26,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--canonical-assets", action="store_true",
                         help="with --seed: keep the canonical assets, perturb only the poses (the demos' check)")
     parser.add_argument("--out", metavar="FILE", help="write here (default: stdout)")
+    parser.add_argument("--force", action="store_true", help="replace an existing --out file")
     parser.add_argument("--list", action="store_true", help="list the tasks and exit")
     args = parser.parse_args(argv)
 
@@ -39,8 +41,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         error = f"unknown task '{args.task}'; tasks: {', '.join(TASKS)}"
     elif args.canonical == (args.seed is not None):
         error = "give exactly one of --seed N and --canonical"
-    elif args.out and not os.path.isdir(os.path.dirname(os.path.abspath(args.out))):
-        error = f"{args.out}: its folder does not exist"
+    elif args.out:
+        unwritable = output_error(args.out, "--out")
+        if unwritable is not None:
+            error = unwritable.message
+        elif os.path.exists(args.out) and not args.force:  # e.g. a trained fragment: never replaced silently
+            error = f"{args.out} exists (use --force to replace it)"
     if error:
         print(f"error: {error}", file=sys.stderr)
         return EXIT_BAD_INPUT

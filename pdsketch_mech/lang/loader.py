@@ -44,15 +44,19 @@ def read_problem_file(path: str) -> Problem:
     return node
 
 
-def load_domain(paths: Sequence[str]) -> LoadedDomain:
-    """Parse `paths` (and whatever they extend), merge them in order, and type-check."""
+def load_domain(paths: Sequence[str], samplers_required: bool = True) -> LoadedDomain:
+    """Parse `paths` (and whatever they extend), merge them in order, and type-check.
+    A mechanism's missing `:sampler` file is an error, or with `samplers_required=False`
+    (a caller that will not load learned samplers) a warning."""
     ordered: List[Tuple[str, Domain]] = []
     for path in paths:
         _collect(os.path.normpath(path), ordered, stack=())
+    warnings: List[PddlWarning] = []
+    for path, domain in ordered:
+        _check_sampler_files(path, domain, samplers_required, warnings)
     merged = ordered[0][1]
     for _, domain in ordered[1:]:
         merged = merge_domains(merged, domain)
-    warnings: List[PddlWarning] = []
     types = check_domain(merged, warnings)
     return LoadedDomain(merged, types, frozenset(d.name for _, d in ordered), tuple(p for p, _ in ordered),
                         tuple(warnings))
@@ -71,19 +75,22 @@ def _collect(path: str, out: List[Tuple[str, Domain]], stack: Tuple[str, ...]) -
         if os.path.realpath(base_path) in stack + (key,):
             raise PddlError(f"'{base}' is extended in a cycle", domain.loc)
         _collect(base_path, out, stack + (key,))
-    _check_sampler_files(path, domain)
     out.append((path, domain))
 
 
-def _check_sampler_files(path: str, domain: Domain) -> None:
-    """A mechanism's `:sampler` names a checkpoint file beside its fragment: it must exist."""
+def _check_sampler_files(path: str, domain: Domain, required: bool, warnings: List[PddlWarning]) -> None:
+    """A mechanism's `:sampler` names a checkpoint file beside its fragment: it must exist,
+    unless it will not be loaded (`required` false), when its absence is only a warning."""
     for mechanism in domain.mechanisms:
         if mechanism.sampler is None:
             continue
         checkpoint = os.path.normpath(os.path.join(os.path.dirname(path), mechanism.sampler))
         if not os.path.isfile(checkpoint):
-            raise PddlError(f"mechanism '{mechanism.name}': :sampler file '{mechanism.sampler}' not found "
-                            f"(looked for {checkpoint})", mechanism.loc)
+            message = (f"mechanism '{mechanism.name}': :sampler file '{mechanism.sampler}' not found "
+                       f"(looked for {checkpoint})")
+            if required:
+                raise PddlError(message, mechanism.loc)
+            warnings.append(PddlWarning(f"{message}; its learned samplers are not used", mechanism.loc))
 
 
 def merge_domains(base: Domain, extra: Domain) -> Domain:
@@ -115,30 +122,69 @@ def declared_domain_name(path: str) -> Optional[str]:
     return match.group(1).lower() if match else None
 
 
+class DomainNotFound(PddlError):
+    """A problem's `(:domain NAME)` is neither among the domains given nor beside it."""
+
+
+def _domain_candidates(problem_path: str) -> List[str]:
+    """Where a problem's domain is looked for, in order (see `find_domain_file`)."""
+    folder = os.path.dirname(problem_path) or os.curdir  # as the user wrote it, to name files in messages
+    candidates = [os.path.join(folder, "domain.pddl")]
+    candidates += sorted(glob.glob(os.path.join(glob.escape(folder), "*.pddl")))
+    candidates += sorted(glob.glob(os.path.join(glob.escape(folder), "..", "domains", "*.pddl")))
+    return [c for c in dict.fromkeys(map(os.path.normpath, candidates)) if os.path.isfile(c)]
+
+
+def _shown(path: str) -> str:
+    """`path` relative to the working folder when it lies inside it, else as it is."""
+    relative = os.path.relpath(path)
+    return path if relative.startswith(os.pardir) else relative
+
+
 def find_domain_file(problem: Problem, problem_path: str) -> Optional[str]:
     """Look beside the problem for its domain: `domain.pddl`, any `*.pddl` in the same
     folder, then `../domains/*.pddl`; the first whose name matches `(:domain ...)` wins."""
-    folder = os.path.dirname(os.path.abspath(problem_path))
-    candidates = [os.path.join(folder, "domain.pddl")]
-    candidates += sorted(glob.glob(os.path.join(folder, "*.pddl")))
-    candidates += sorted(glob.glob(os.path.join(folder, "..", "domains", "*.pddl")))
-    for candidate in candidates:
-        if os.path.isfile(candidate) and declared_domain_name(candidate) == problem.domain_name:
+    for candidate in _domain_candidates(problem_path):
+        if declared_domain_name(candidate) == problem.domain_name:
             return os.path.relpath(candidate)
     return None
 
 
-def load_problem(problem_path: str, domains: Sequence[LoadedDomain] = ()) -> Tuple[LoadedDomain, Problem]:
-    """Parse a problem, find its domain (among `domains`, else beside it) and type-check it."""
+def _not_found(problem: Problem, problem_path: str, domains: Sequence[LoadedDomain]) -> DomainNotFound:
+    """The error for a problem whose domain was not found, saying what was looked at beside it
+    and, when a fragment there extends the domain (it declares its own name), which files to give."""
+    name = problem.domain_name
+    given = ", ".join(sorted(n for d in domains for n in d.names)) or "none given"
+    beside = [c for c in _domain_candidates(problem_path) if declared_domain_name(c) is not None]
+    for candidate in beside:
+        chain: List[Tuple[str, Domain]] = []
+        try:
+            _collect(os.path.normpath(candidate), chain, stack=())
+        except PddlError:  # a broken file is reported when it is given, not here
+            continue
+        declaring = next((p for p, d in chain if d.name == name), None)
+        if declaring is not None:
+            return DomainNotFound(
+                f"no domain named '{name}' (domains: {given}); beside the problem, {_shown(candidate)} "
+                f"is a fragment of domain '{declared_domain_name(candidate)}' that extends it: give that fragment, "
+                f"or {_shown(declaring)}, which declares '{name}'", problem.loc)
+    looked = ", ".join(_shown(c) for c in beside[:5]) + (f" and {len(beside) - 5} more" if len(beside) > 5 else "")
+    where = f"none of the domain files beside the problem declares it: {looked}" if beside else \
+        "no domain file beside the problem either"
+    return DomainNotFound(f"no domain named '{name}' (domains: {given}; {where})", problem.loc)
+
+
+def load_problem(problem_path: str, domains: Sequence[LoadedDomain] = (),
+                 samplers_required: bool = True) -> Tuple[LoadedDomain, Problem]:
+    """Parse a problem, find its domain (among `domains`, else beside it) and type-check it.
+    `samplers_required` is `load_domain`'s, for a domain found beside the problem."""
     problem = read_problem_file(problem_path)
     domain = next((d for d in domains if problem.domain_name in d.names), None)
     if domain is None:
         found = find_domain_file(problem, problem_path)
         if found is None:
-            given = ", ".join(sorted(n for d in domains for n in d.names)) or "none given"
-            raise PddlError(f"no domain named '{problem.domain_name}' (domains: {given}; none beside "
-                            "the problem either)", problem.loc)
-        domain = load_domain([found])
+            raise _not_found(problem, problem_path, domains)
+        domain = load_domain([found], samplers_required)
     check_problem(problem, domain.domain, domain.types)
     return domain, problem
 

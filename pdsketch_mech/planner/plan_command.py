@@ -12,6 +12,7 @@ from ..lang.errors import PddlError
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
 from ..operators.execution import Recorder
+from ..samplers.learned.checkpoint import CheckpointError
 from ..world.build import build_world
 from ..world.render import save_gif
 from .bilevel import PlanResult, bilevel_plan
@@ -40,8 +41,8 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         try:
             learned = learned_samplers(loaded, use_learned=not args.no_learned_samplers,
                                        use_mechanisms=not args.basis_only)
-        except ValueError as error:  # CheckpointError: a clear line, no fallback
-            print(f"error: {error}", file=sys.stderr)
+        except CheckpointError as error:  # a clear line, no fallback
+            print_error(error.as_pddl_error())
             return EXIT_BAD_INPUT
         planning_began = time.perf_counter()
         remaining = max(0.1, args.timeout - (planning_began - started) - FINISH_MARGIN)

@@ -15,11 +15,12 @@ import hashlib
 import json
 import os
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any, Dict, List, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from ...lang.nodes import Mechanism
+from ...lang.errors import PddlError
+from ...lang.nodes import Loc, Mechanism
 from ...lang.writer import write_mechanism
 from .forward import NumpyClassifiers
 from .specs import EncoderConfig, ParamSpec
@@ -33,7 +34,16 @@ SUFFIX = ".samplers.safetensors"
 
 
 class CheckpointError(ValueError):
-    """A checkpoint that cannot be used (missing, unreadable, for another mechanism)."""
+    """A checkpoint that cannot be used (missing, unreadable, for another mechanism); `loc`
+    is the place in the metadata file when the JSON itself is broken."""
+
+    def __init__(self, message: str, loc: Optional[Loc] = None):
+        super().__init__(f"{loc}: {message}" if loc is not None else message)
+        self.message, self.loc = message, loc
+
+    def as_pddl_error(self) -> PddlError:
+        """The same report as the commands print bad input: `FILE:LINE:COL: error: ...` or `error: ...`."""
+        return PddlError(self.message, self.loc)
 
 
 def mechanism_hash(mechanism: Mechanism) -> str:
@@ -72,27 +82,50 @@ def read(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Dict[str, n
     for path in (weights, meta_file):
         if not os.path.isfile(path):
             raise CheckpointError(f"{path}: not found (the checkpoint of mechanism '{mechanism.name}' in {fragment})")
+    meta = read_metadata(meta_file)
+    if meta.get("mechanism") != mechanism.name:
+        raise CheckpointError(
+            f"{weights} was trained for mechanism '{meta.get('mechanism')}', not '{mechanism.name}' (in {fragment}); "
+            f"train one for it (python -m pdsketch_mech.learn train {mechanism.name} --fragment {fragment}) or "
+            "plan with --no-learned-samplers")
+    if meta.get("mechanism_hash") != mechanism_hash(mechanism):
+        raise CheckpointError(
+            f"{weights} was trained for another definition of mechanism '{mechanism.name}' than the one "
+            f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name} --fragment {fragment} "
+            f"--force) or plan with "
+            "--no-learned-samplers")
     try:
-        with open(meta_file, encoding="utf-8") as handle:
-            meta = json.load(handle)
-        if meta.get("schema") not in READABLE:
-            raise CheckpointError(f"{meta_file}: not a learned-sampler checkpoint ({SCHEMA})")
-        if meta.get("mechanism") != mechanism.name or meta.get("mechanism_hash") != mechanism_hash(mechanism):
-            raise CheckpointError(
-                f"{weights} was trained for another definition of mechanism '{meta.get('mechanism')}' than the one "
-                f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name} --fragment {fragment} "
-                f"--force) or plan with "
-                "--no-learned-samplers")
-        layout(meta)
         with open(weights, "rb") as handle:
             data = handle.read()
         tensors = load_bytes(data)
-        meta["weights_sha256"] = hashlib.sha256(data).hexdigest()
-    except (OSError, ValueError, KeyError, TypeError, SafetensorError) as exc:
-        if isinstance(exc, CheckpointError):
-            raise
+    except (OSError, ValueError, SafetensorError) as exc:
         raise CheckpointError(f"{weights}: cannot load the checkpoint: {str(exc).splitlines()[0]}") from None
+    meta["weights_sha256"] = hashlib.sha256(data).hexdigest()
     return tensors, meta
+
+
+def read_metadata(meta_file: str) -> Dict[str, Any]:
+    """A checkpoint's metadata, checked to describe classifiers (CheckpointError naming the
+    JSON file, and the place in it when the JSON is broken, otherwise)."""
+    try:
+        with open(meta_file, encoding="utf-8") as handle:
+            meta = json.load(handle)
+    except json.JSONDecodeError as exc:
+        raise CheckpointError(f"the checkpoint's metadata is not valid JSON: {exc.msg}",
+                              Loc(meta_file, exc.lineno, exc.colno)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CheckpointError(f"{meta_file}: cannot read the checkpoint's metadata: {exc}") from None
+    if not isinstance(meta, dict) or meta.get("schema") not in READABLE:
+        raise CheckpointError(f"{meta_file}: not a learned-sampler checkpoint ({SCHEMA})")
+    try:
+        if not isinstance(meta["mechanism"], str):
+            raise TypeError("'mechanism' is not a name")
+        layout(meta)
+        context_count(meta)
+    except (KeyError, ValueError, TypeError, AttributeError) as exc:
+        raise CheckpointError(f"{meta_file}: the checkpoint's metadata is malformed "
+                              f"({type(exc).__name__}: {exc})") from None
+    return meta
 
 
 def layout(meta: Dict[str, Any]) -> Tuple[List[ParamSpec], EncoderConfig]:
