@@ -81,7 +81,8 @@ def _parser() -> ArgumentParser:
     train.add_argument("-h", "--help", action="help", help="show this help message and exit")
     train.add_argument("--epochs", type=count, default=None, help="training epochs per parameter (default 30)")
     train.add_argument("--checkpoint", metavar="FILE", help="where to write the weights "
-                       "(default domains/mechanisms/NAME.samplers.safetensors)")
+                       "(default domains/mechanisms/NAME.samplers.safetensors); the fragment's "
+                       ":sampler is pointed at it")
     train.add_argument("--force", action="store_true", help="replace an existing checkpoint")
     train.add_argument("--compare", type=whole, default=0, metavar="N",
                        help="then plan N test instances with the generic and the learned samplers (120 s each) and "

@@ -694,3 +694,13 @@ def test_scoring_time_leaves_out_embedding_a_new_shape(monkeypatch, tmp_path):
     assert len(learned.shape_seconds) == len(learned.objects(world, request))   # once per shape
     assert all(t >= 0.2 for t in learned.shape_seconds)
     assert len(learned.score_seconds) == 2 and max(learned.score_seconds) < 0.2
+
+
+def test_the_learning_report_flags_an_auc_measured_on_few_rows():
+    from pdsketch_mech.learning.sampler_report import FEW_ROWS, report_markdown
+    from pdsketch_mech.learning.sampler_training import ParamReport
+    reports = [ParamReport("?g", "grasp", 100, 10, validation_rows=4, validation_positives=1, auc=1.0),
+               ParamReport("?p", "placement", 900, 90, validation_rows=FEW_ROWS, validation_positives=9, auc=0.8)]
+    text = report_markdown("com", reports, {"totals": {}}, {"task": "com", "seconds_training": 1.0,
+                                                            "seconds_selfplay": 1.0, "command": "c"}, "x.png")
+    assert "| 1.000 (only 4 rows) |" in text and "| 0.800 |" in text

@@ -14,6 +14,8 @@ import numpy as np
 from ..cli import atomic_file, write_text
 from .sampler_training import ParamReport
 
+FEW_ROWS = 50   # validation rows below which the report flags an AUC as resting on little
+
 
 def success_curve(rows: Sequence[Dict[str, object]], window: int = 10) -> np.ndarray:
     """Running mean of episode success over the last `window` episodes, in episode order."""
@@ -48,6 +50,8 @@ def report_markdown(name: str, reports: Sequence[ParamReport], manifest: Dict[st
     ]
     for r in reports:
         auc = _fmt(r.auc) if not r.skipped else f"not trained: {r.skipped}"
+        if not r.skipped and r.auc is not None and r.validation_rows < FEW_ROWS:
+            auc += f" (only {r.validation_rows} rows)"   # a tiny run's AUC of 1.000 means little
         lines.append(f"| `{r.variable}` | {r.kind} | {r.rows} ({r.rejected}) | {r.positives} | {r.validation_rows} "
                      f"({r.validation_positives}) | {r.best_epoch or '-'} | {auc} | {_fmt(r.balanced_accuracy)} "
                      f"| {_fmt(r.verify_auc)} |")
@@ -67,6 +71,7 @@ def write_report(markdown_path: str, png_path: str, name: str, reports: Sequence
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
     curve = success_curve(manifest.get("episodes", []))
@@ -74,10 +79,13 @@ def write_report(markdown_path: str, png_path: str, name: str, reports: Sequence
     axes[0].set(title="self-play success (last 10 episodes)", xlabel="episode", ylim=(-0.02, 1.02))
     for r in reports:
         if r.train_loss:
-            line, = axes[1].plot(r.train_loss, label=f"{r.variable} train")
+            # Epochs counted from 1, as the table's "kept epoch" counts them.
+            line, = axes[1].plot(np.arange(1, len(r.train_loss) + 1), r.train_loss, label=f"{r.variable} train")
             if r.validation_loss:
-                axes[1].plot(r.validation_loss, linestyle="--", color=line.get_color(), label=f"{r.variable} val.")
+                axes[1].plot(np.arange(1, len(r.validation_loss) + 1), r.validation_loss, linestyle="--",
+                             color=line.get_color(), label=f"{r.variable} val.")
     axes[1].set(title="classifier loss (BCE, class-balanced)", xlabel="epoch")
+    axes[1].xaxis.set_major_locator(MaxNLocator(integer=True))
     axes[1].legend(fontsize=7)
     trained = [r for r in reports if not r.skipped]
     axes[2].bar([r.variable for r in trained], [r.auc if r.auc is not None else 0.0 for r in trained],
