@@ -69,6 +69,12 @@ def run_and_exit(main: Callable[[], int]) -> NoReturn:
     flushed by then; skipping the interpreter's teardown (unloading scipy, trimesh and
     PyBullet takes 0.15-0.3 s) makes a command end when its time limit says."""
     status = run(main)
+    # The one part of the teardown that matters: multiprocessing's exit handler stops pools
+    # and unregisters their semaphores, which the resource tracker would otherwise report as
+    # leaked under a Ctrl-C's "interrupted" (`learn selfplay --workers K`).
+    spawned = sys.modules.get("multiprocessing.util")
+    if spawned is not None:
+        spawned._exit_function()
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()

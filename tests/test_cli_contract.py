@@ -189,6 +189,36 @@ def test_ctrl_c_at_any_moment_ends_a_run_within_half_a_second(delay):
     check_interrupted(delay)
 
 
+def test_a_ctrl_c_with_worker_processes_running_says_only_interrupted(tmp_path):
+    """`learn selfplay --workers K` runs a spawn pool; ended by os._exit, which skips the
+    interpreter's teardown, its semaphores stayed registered and the resource tracker printed
+    a leaked-semaphore warning under "interrupted"."""
+    script = tmp_path / "pool.py"
+    script.write_text("import multiprocessing, signal, time\n"
+                      "from pdsketch_mech.cli import run_and_exit\n"
+                      "def quiet():\n"
+                      "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+                      "def work(x):\n"
+                      "    time.sleep(30)\n"
+                      "def main():\n"
+                      "    pool = multiprocessing.get_context('spawn').Pool(2, initializer=quiet)\n"
+                      "    print('started', flush=True)\n"
+                      "    for _ in pool.imap_unordered(work, range(4)):\n"
+                      "        pass\n"
+                      "if __name__ == '__main__':\n"
+                      "    run_and_exit(main)\n")
+    run = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           cwd=ROOT, env={**os.environ, "PYTHONPATH": ROOT})
+    try:
+        assert run.stdout.readline() == "started\n"
+        time.sleep(1.0)
+        run.send_signal(signal.SIGINT)
+        _, err = run.communicate(timeout=30)
+    finally:
+        run.kill()
+    assert (run.returncode, err) == (130, "interrupted\n")
+
+
 def test_an_interrupt_during_an_import_is_recognised(tmp_path, monkeypatch):
     """Ctrl-C while a module is being imported exits at once instead of raising into the
     import (raised into a native extension's initialisation, it aborted with SIGABRT: seen
