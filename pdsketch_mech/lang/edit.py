@@ -6,7 +6,7 @@ definition and re-indent it; these edits change only the `:sampler` clause.
 """
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import Iterator, Optional, Tuple
 
 from .nodes import Mechanism
 from .writer import string_literal
@@ -21,47 +21,42 @@ def _offset(text: str, line: int, col: int) -> int:
     return starts[line - 1] + col - 1
 
 
-def _form_end(text: str, start: int) -> int:
-    """The offset of the parenthesis that closes the form opening at `start`, skipping
-    comments (`;` to the end of the line) and strings."""
+def _scan(text: str, start: int) -> Iterator[Tuple[int, int]]:
+    """(offset, depth) of each character from `start` outside comments (`;` to the end of
+    the line) and strings, depth counting the parentheses open before it (an opening one
+    counts itself)."""
     depth, k = 0, start
-    while k < len(text):
+    while 0 <= k < len(text):
         char = text[k]
         if char == ";":
             k = text.find("\n", k)
-            if k < 0:
-                break
-        elif char == '"':
-            k = text.index('"', k + 1)
-        elif char == "(":
-            depth += 1
-        elif char == ")":
-            depth -= 1
-            if depth == 0:
-                return k
+            continue
+        if char == '"':
+            k = text.index('"', k + 1) + 1
+            continue
+        depth += (char == "(") - (char == ")")
+        yield k, depth + (char == ")")
         k += 1
+
+
+def _form_end(text: str, start: int) -> int:
+    """The offset of the parenthesis that closes the form opening at `start`."""
+    for k, depth in _scan(text, start):
+        if text[k] == ")" and depth == 1:
+            return k
     raise ValueError("unbalanced parentheses")
 
 
 def _sampler_string(text: str, start: int, end: int) -> Optional[Tuple[int, int]]:
     """(start, end) of the string after the form's own `:sampler` keyword (not one in a
     nested form or a comment), or None."""
-    depth, k = 0, start
-    while k < end:
-        char = text[k]
-        if char == ";":
-            k = text.find("\n", k)
-        elif char == '"':
-            k = text.index('"', k + 1)
-        elif char == "(":
-            depth += 1
-        elif char == ")":
-            depth -= 1
-        elif depth == 1 and text.startswith(":sampler", k) and not (text[k + 8:k + 9].isalnum()
-                                                                    or text[k + 8:k + 9] in "-_"):
+    for k, depth in _scan(text, start):
+        if k >= end:
+            break
+        after = text[k + 8:k + 9]
+        if depth == 1 and text.startswith(":sampler", k) and not (after.isalnum() or after in "-_"):
             first = text.index('"', k)
             return first, text.index('"', first + 1) + 1
-        k += 1
     return None
 
 
