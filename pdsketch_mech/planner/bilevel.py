@@ -6,8 +6,8 @@ and taking new ones from the symbolic search (schedule.py; supply.py hands them 
 skeleton that needs many samples is not starved by the search for new ones, and a deep one
 (a tool use 20 skeletons down) is reached within a bounded amount of work. Skeletons that
 wander (detours.py), mechanism groundings the learned samplers doubt (promise.py; probed
-before their skeletons are created, probes.py) and
-skeletons whose steps keep failing in other skeletons (bottlenecks.py) get less of it.
+before their skeletons are created, probes.py) and skeletons whose steps keep failing in
+other skeletons (bottlenecks.py) get less of it.
 """
 from __future__ import annotations
 
@@ -129,10 +129,10 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 stats["probes"] = probes.count
             # The first upcoming skeleton with the fewest unexplained detours, and the groundings
             # the learned samplers prefer, comes next (supply.py, promise.py).
-            detour_weights = [supply.weight(plan) * sampler.promise.weight(skeleton_groundings(steps))
-                              for plan, steps, _ in window]
-            chosen = heaviest(detour_weights) if window else 0
-            upcoming_weight = (detour_weights[chosen] * unblocked.weight(window[chosen][1])
+            creation_weights = [supply.weight(plan) * sampler.promise.weight(skeleton_groundings(steps))
+                                for plan, steps, _ in window]
+            chosen = heaviest(creation_weights) if window else 0
+            upcoming_weight = (creation_weights[chosen] * unblocked.weight(window[chosen][1])
                                * outcomes.weight(outcomes.keys(window[chosen][1])) if window else 1.0)
             turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
                              supply.taken + 1 if window else None, upcoming_weight)

@@ -11,6 +11,14 @@ facts, upcoming or scored before), is probed: one batch of the step's proposals 
 the scene as it begins, none verified or simulated. A grounding without rivals is not
 probed: a score compared with nothing changes no weight (Center-of-Mass's one grounding cost
 ~0.1 s of grasp proposals on its plate).
+
+Measured (`bench samplers NAME --instances 10 --runs 3`, learned runs, values simulated,
+median / geometric mean over 30 runs, without -> with probes): Lever 12 / 17.4 -> 7 / 14.9,
+Hook 30 / 33.3 -> 23 / 28.8, Poking 14 / 18.6 -> 14 / 17.4, Slope-and-Blocker 8 / 13.6 ->
+8 / 13.4, Center-of-Mass the same; Lever on instances 10-19 12 / 14.4 -> 10 / 15.0. A first
+variable's scores say little about some groundings: on lever-test-2 the grasp classifier
+prefers a fork, which cannot tip the plate, to the 0.5 kg dipper (mass is in no
+classifier's context), and that run went from 26 to 84 values.
 """
 from __future__ import annotations
 

@@ -20,11 +20,7 @@ the tool within reach with the apple serves another subgoal and scores high for 
 nothing about which object should pull the box. Two rivals are compared on the sum over the
 variables both were scored on. A grounding no batch has scored yet is not held back; so that
 rivals are scored before any gets work, the planner probes upcoming skeletons that begin
-with a mechanism's first step (probes.py). Measured with probes against without (`bench samplers NAME
---instances 10 --runs 3`, learned runs, values simulated, median / geometric mean): Lever
-12 / 17.4 -> 7 / 14.9 (the 0.5 kg spoon's placements were tried before an apple's, which the
-classifiers preferred from its first grasp on), Hook 30 / 33.3 -> 23 / 28.8, Poking
-14 / 18.6 -> 14 / 17.4, Slope-and-Blocker 8 / 13.6 -> 8 / 13.4, Center-of-Mass the same.
+with a mechanism's first step (probes.py).
 
 An earlier weighting by a grounding's own best score, against no rival, helped where the
 classifier was right and hurt where it was not, and was dropped (README).

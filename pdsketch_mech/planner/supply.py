@@ -10,10 +10,9 @@ looked at, one with three detours (weight 1/64) held back every later skeleton: 
 lever-test-0 the 11th skeleton came at 65 s and the one that solved it, the 22nd (push the
 plate with the spoon: the spoon could not lie on the plate then), at 88 s of 107. The choice reads
 the detours and, with learned samplers, the promise of the skeleton's mechanism groundings
-(promise.py; the planner probes each upcoming skeleton that begins with a mechanism's first
-step whose grounding has a rival, probes.py), not the prefixes: skeletons that begin with a prefix past a dead step
-(unblocked.py, 8x the weight) jumping the queue too took the work on lever-test-4 (15 of them
-came at once, 66 -> 348 s).
+(promise.py; probed before the skeleton is created, probes.py), not the prefixes: skeletons
+that begin with a prefix past a dead step (unblocked.py, 8x the weight) jumping the queue too
+took the work on lever-test-4 (15 of them came at once, 66 -> 348 s).
 """
 from __future__ import annotations
 
