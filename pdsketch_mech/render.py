@@ -9,7 +9,8 @@ import sys
 from typing import Optional, Sequence
 
 from .cli import (
-    EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, finite, number_in, output_error, print_error, run_and_exit,
+    EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, finite, number_in, output_error, print_error, print_warning,
+    run_and_exit,
 )
 from .lang.errors import PddlError
 from .lang.loader import load_domain, load_problem
@@ -34,8 +35,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print_error(error)
         return EXIT_BAD_INPUT
     try:
-        domains = [load_domain([d]) for d in args.domains]
-        _, problem = load_problem(args.problem, domains)
+        domains = [load_domain([d], samplers_required=False) for d in args.domains]  # no checkpoint is loaded
+        for warning in (w for d in domains for w in d.warnings):
+            print_warning(warning)
+        _, problem = load_problem(args.problem, domains, samplers_required=False)
         if problem.scene is None:
             raise PddlError(f"problem '{problem.name}' has no :scene to render", problem.loc)
         with build_world(problem) as world:

@@ -24,10 +24,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--render", metavar="FILE.gif", help="save the replay as a GIF")
     args = parser.parse_args(argv)
     try:
-        domains = [load_domain([d]) for d in args.domains]
+        # A plan's values are in its JSON: no checkpoint is loaded, a missing one is a warning.
+        domains = [load_domain([d], samplers_required=False) for d in args.domains]
         for warning in (w for d in domains for w in d.warnings):
             print_warning(warning)
-        domain, problem = load_problem(args.problem, domains)
+        domain, problem = load_problem(args.problem, domains, samplers_required=False)
         error = output_error(args.render, "--render", [*domain.files, args.problem, args.plan], (".gif",))
         if error is not None:
             raise error

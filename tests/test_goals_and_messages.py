@@ -130,6 +130,11 @@ def test_a_missing_checkpoint_is_only_a_warning_where_it_would_not_be_loaded(wri
     assert capsys.readouterr().err.splitlines() == [missing]
     assert plan.main([fragment, problem_path, "--skeletons", "1"]) == 2
     assert capsys.readouterr().err.strip() == missing.replace("warning", "error").split("; its")[0]
+    # render (and replay) never load a checkpoint: a warning, and the picture is drawn.
+    from pdsketch_mech import render
+    out = os.path.join(os.path.dirname(fragment), "scene.png")
+    assert render.main([problem_path, fragment, "--out", out]) == 0 and os.path.isfile(out)
+    assert capsys.readouterr().err.splitlines()[0] == missing
 
 
 COM = os.path.join(ROOT, "domains", "mechanisms", "com.pddl")

@@ -86,3 +86,17 @@ def test_evaluate_refuses_data_recorded_with_another_context_count(tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"error: {data}: self-play recorded 1 context object(s)")
     assert err[0].endswith("play the data with --context 0")
+
+
+def test_evaluate_refuses_data_played_with_another_definition_of_the_mechanism(tmp_path, capsys):
+    data = str(tmp_path / "old")
+    assert learn.main(["selfplay", "com", "--split", "test", "--episodes", "1", "--budget", "40", "--out", data]) == 0
+    capsys.readouterr()
+    with open(f"{data}/manifest.json") as handle:
+        manifest = json.load(handle)
+    manifest["config"]["mechanism_hash"] = "0" * 64      # as if the fragment had been edited since
+    with open(f"{data}/manifest.json", "w") as handle:
+        json.dump(manifest, handle)
+    assert learn.main(["evaluate", "com", "--data", data]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "holds self-play episodes of another definition of mechanism com" in err[0]

@@ -13,11 +13,11 @@ from ..cli import EXIT_OK, EXIT_UNSOLVED, fail, output_error, write_json
 
 
 def evaluate_command(args) -> int:
-    from ..samplers.learned.checkpoint import CheckpointError, context_count, load
+    from ..samplers.learned.checkpoint import CheckpointError, context_count, load, mechanism_hash
     from ..samplers.learned.ranked import checkpoint_path
     from .evaluate import as_json, data_config, held_out_episodes, markdown, score_episodes, summarise
     from .sampler_data import read_episodes
-    from .selfplay_store import StoreError
+    from .selfplay_store import StoreError, check_definition
     from .train_command import fragment_mechanism, shown
 
     found = fragment_mechanism(args.name, args.fragment)
@@ -42,6 +42,8 @@ def evaluate_command(args) -> int:
         episodes = read_episodes(data)
         held_out = held_out_episodes(data, episodes)
         config = data_config(data)
+        # Episodes played with another definition of the mechanism rank other parameters.
+        check_definition(data, config, mechanism_hash(mechanism), shown(fragment))
         split = config["split"]
     except (CheckpointError, StoreError) as exc:
         return fail(str(exc))
