@@ -134,29 +134,41 @@ class StepSampler:
         proposals ranks it, verifying none: what the learned samplers think of the step's
         mechanism grounding (promise.py) is then known before its skeleton gets any work.
         True if a batch was scored."""
-        needed = sorted({a for a in step.args if is_placeholder(a)}, key=lambda a: (self.placeholders[a].level, a))
+        needed = self._needed(step)
         if not needed or not step.mechanism or step.mechanism not in self.learned:
             return False
         holder = self.placeholders[needed[0]]
         if any(is_placeholder(v) for v in holder.inputs):
             return False
-        stream = self.streams[holder.stream]
-        ranked = self.sampler_for(stream.name, step, needed[0])
+        ranked = self.sampler_for(holder.stream, step, needed[0])
         if not hasattr(ranked, "probe"):
             return False
-        objects = [a for a in step.args if not is_placeholder(a) and a in world.bodies]
-        request = SampleRequest(stream.name, tuple(holder.inputs), tuple(q.name for q in stream.inputs), step,
-                                {name: world.pose(name) for name in objects}, {}, self.deadline)
-        return ranked.probe(world, request, rng)
+        return ranked.probe(world, self._request(holder, step, self._poses(world, step), {}), rng)
+
+    def _needed(self, step: StepContext) -> List[str]:
+        """The step's placeholders in the order they are sampled (dependencies first)."""
+        return sorted({a for a in step.args if is_placeholder(a)}, key=lambda a: (self.placeholders[a].level, a))
+
+    @staticmethod
+    def _poses(world: World, step: StepContext) -> Dict[str, object]:
+        """Where the step's objects are now."""
+        return {a: world.pose(a) for a in step.args if not is_placeholder(a) and a in world.bodies}
+
+    def _request(self, holder: Placeholder, step: StepContext, poses, values: Dict[str, object],
+                 parents: Optional[Mapping[str, object]] = None, on_verified=None) -> SampleRequest:
+        """The request for `holder`'s stream: its placeholder inputs read from `values` (this
+        step's values so far), its parents those and the earlier steps' `parents`."""
+        stream = self.streams[holder.stream]
+        return SampleRequest(stream.name, tuple(values.get(v, v) for v in holder.inputs),
+                             tuple(q.name for q in stream.inputs), step, poses, {**(parents or {}), **values},
+                             self.deadline, on_verified)
 
     def samples(self, world: World, step: StepContext, rng: np.random.Generator,
                 parents: Optional[Mapping[str, object]] = None, per_value: int = 1) -> Iterator[Dict[str, object]]:
         """Assignments {placeholder: value} for the placeholders among the step's arguments;
         `parents` are values earlier steps of the step's mechanism drew."""
-        needed = sorted({a for a in step.args if is_placeholder(a)}, key=lambda a: (self.placeholders[a].level, a))
-        objects = [a for a in step.args if not is_placeholder(a) and a in world.bodies]
-        poses = {name: world.pose(name) for name in objects}
-        yield from self._assign(world, step, dict(parents or {}), poses, needed, {}, rng, per_value, root=True)
+        yield from self._assign(world, step, dict(parents or {}), self._poses(world, step), self._needed(step), {},
+                                rng, per_value, root=True)
 
     def _assign(self, world, step: StepContext, parents: Dict[str, object], poses, needed: List[str],
                 values: Dict[str, object], rng, per_value: int, root: bool):
@@ -171,9 +183,7 @@ class StepSampler:
         def verified(candidate, value):
             for observe in self.verify_observers:
                 observe(request, candidate, value)
-        request = SampleRequest(stream.name, tuple(values.get(v, v) for v in holder.inputs),
-                                tuple(q.name for q in stream.inputs), step, poses, {**parents, **values}, self.deadline,
-                                verified if self.verify_observers else None)
+        request = self._request(holder, step, poses, values, parents, verified if self.verify_observers else None)
         key = self.key(stream.name)
         drawn = 0
         for value in self.sampler_for(stream.name, step, name).draw(world, request, rng):

@@ -277,11 +277,8 @@ class RankedSampler(Sampler):
         verified values, or a fixed object out of its training's place) or nothing is proposed."""
         if self.pool or self.learned.extrapolates(world, request, self.variable) is not None:
             return False
-        batch: List[object] = []
-        for _ in range(1 + REFILLS):   # a thin spoon lying flat may give a call no grasp at all
-            batch += islice(self.generic.propose(world, request, rng, max(self.budget, BATCH)), BATCH - len(batch))
-            if len(batch) >= BATCH or time.perf_counter() > request.deadline:
-                break
+        # Every refill is tried: a thin spoon lying flat may give a call no grasp at all.
+        batch = list(islice(self._proposals(world, request, rng, max(self.budget, BATCH), [], until_dry=False), BATCH))
         if batch:
             self._scored(world, request, batch)
         return bool(batch)
@@ -339,9 +336,9 @@ class RankedSampler(Sampler):
                     yield self._yielded(value, trust, explored)
 
     def _proposals(self, world: "World", request: SampleRequest, rng: np.random.Generator,
-                   count: int, first: List[int]) -> Iterator[object]:
+                   count: int, first: List[int], until_dry: bool = True) -> Iterator[object]:
         """The generic proposer's proposals, and when it runs dry, those of up to REFILLS
-        more calls; a call that finds none ends them. How many the first call found is
+        more calls; a call that finds none ends them (`until_dry`). How many the first call found is
         appended to `first` when that call ends. A proposer examines a bounded number
         of candidates per call: the contact proposer's 60 points on the target give a held
         tool a median of 2 usable contacts, and a batch of 2 leaves the classifier nothing
@@ -355,7 +352,7 @@ class RankedSampler(Sampler):
                 yield proposal
             if not first:
                 first.append(found)
-            if not found or time.perf_counter() > request.deadline:
+            if (until_dry and not found) or time.perf_counter() > request.deadline:
                 return
 
 
