@@ -30,7 +30,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -45,7 +45,7 @@ from ..planner.execute import settle_start
 from ..planner.refine import Refinement, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
-from ..samplers.learned.encoding import VALUE_WIDTH
+from ..samplers.learned.encoding import VALUE_WIDTH, mass_features
 from ..samplers.learned.checkpoint import mechanism_hash
 from ..samplers.learned.context import context_objects
 from .selfplay_record import MAX_PARENTS, SampleLog
@@ -193,12 +193,13 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
         by_name = {o.name: o for o in instance.objects}
         return episode_arrays(episode, instance_seed, planner_seed, values is not None, objects,
                               [by_name[o].asset for o in objects], [by_name[o].scale for o in objects],
-                              log, units, timed_out, time.perf_counter() - started, len(candidates))
+                              log, units, timed_out, time.perf_counter() - started, len(candidates),
+                              mass_features(world, objects))
 
 
 def episode_arrays(episode: int, instance_seed: int, planner_seed: int, success: bool, objects, assets, scales,
                    log: Optional[SampleLog], units: int, timed_out: bool, seconds: float,
-                   choices: int) -> Dict[str, np.ndarray]:
+                   choices: int, masses: Sequence[float]) -> Dict[str, np.ndarray]:
     """The episode as flat arrays: per-episode fields prefixed `episode_`, one row per sample
     for the rest (parents are sample indices within the episode, -1-padded)."""
     samples = log.samples if log is not None else []
@@ -221,6 +222,7 @@ def episode_arrays(episode: int, instance_seed: int, planner_seed: int, success:
         "episode_objects": text(objects)[None, :] if m else np.zeros((1, 0), dtype="<U1"),
         "episode_assets": text(assets)[None, :] if m else np.zeros((1, 0), dtype="<U1"),
         "episode_scales": np.array([scales], dtype=float).reshape(1, m),
+        "episode_masses": np.array([masses], dtype=float).reshape(1, m),  # log kg (encoding.mass_features)
         "episode_units": np.array([units], dtype=np.int64),
         "episode_timed_out": np.array([timed_out]),
         "episode_groundings": np.array([choices], dtype=np.int64),

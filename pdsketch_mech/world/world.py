@@ -129,6 +129,10 @@ class World:
         self.reset_contact_caches()
         return body
 
+    def mass(self, name: str) -> float:
+        """The body's mass in kg as the simulator has it (a fixed body's is its file's)."""
+        return float(p.getDynamicsInfo(self.bodies[name].id, -1, physicsClientId=self.client)[0])
+
     def movable(self) -> List[str]:
         return [name for name, body in self.bodies.items() if not body.fixed]
 

@@ -47,6 +47,19 @@ def pose_array(pose) -> List[float]:
     return [float(x), float(y), float(z)] + q
 
 
+# A fixed body weighs this much as a classifier sees it: immovable, whatever its file says.
+FIXED_MASS_KG = 1000.0
+MIN_MASS_KG = 1e-3
+
+
+def mass_features(world: "World", names) -> np.ndarray:
+    """(len(names),) the log of each body's mass in kg. Which object can tip a lever is told by
+    its weight, not its shape: a task's heavy object and its distractors are drawn from the
+    same categories."""
+    masses = [FIXED_MASS_KG if world.bodies[n].fixed else max(world.mass(n), MIN_MASS_KG) for n in names]
+    return np.log(np.asarray(masses, dtype=float))
+
+
 def encode_value(world: "World", value: object) -> Tuple[str, np.ndarray]:
     """(kind, numbers) for a sampler's value; the layout is VALUE_LAYOUT[kind]."""
     if isinstance(value, Grasp):
