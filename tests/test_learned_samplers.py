@@ -73,6 +73,33 @@ def test_training_learns_which_grasps_succeed():
     assert float(classifier.prior_shift[1]) != 0.0
 
 
+def test_classifiers_read_masses_where_self_play_recorded_them():
+    """A task's heavy object and its distractors come from the same categories: only mass
+    tells them apart. Episodes whose block weighs 0.5 kg succeed with any grasp, those whose
+    block weighs 30 g never do, shapes and poses alike; a classifier that reads masses ranks
+    the heavy block's grasps first: it learns from the first step's values of failed episodes
+    too. Data without masses (older self-play) trains without them."""
+    plain = synthetic_episodes(30)
+    assert not parent_specs(plain)["?g"].masses
+    episodes = synthetic_episodes(30)
+    for e, ep in enumerate(episodes):
+        heavy = e % 2 == 0
+        ep["episode_masses"] = np.log(np.array([[0.5 if heavy else 0.03, 1000.0]]))
+        ep["label"][:12] = ep["verified"][:12] if heavy else 0
+        ep["episode_success"] = np.array([heavy])
+        ep["step"] = np.array([0] * 12 + [1])
+    specs = parent_specs(episodes)
+    assert specs["?g"].masses and specs["?p"].masses
+    model, _ = train_mechanism(episodes, TrainConfig(epochs=30, encoder=TINY, seed=1))
+    data = param_data(episodes, specs["?g"])
+    heavy = data.masses[:, 0] > np.log(0.1)
+    with torch.no_grad():
+        score = model.classifier("?g").log_score(to_batch(data, np.arange(len(data)),
+                                                          torch.from_numpy(data.clouds()))).numpy()
+    verified = data.verified > 0.5
+    assert roc_auc(score[verified], heavy[verified].astype(float)) > 0.9
+
+
 def test_rejected_proposals_beyond_the_cap_are_subsampled_and_weighted():
     episodes = synthetic_episodes(3)
     for ep in episodes:                      # 1000 rejected grasps per episode
@@ -125,7 +152,8 @@ def test_numpy_forward_pass_scores_as_torch_does():
     specs = [ParamSpec("?c", "contact", (("?g", "grasp"), ("?t", "push")), 3, axes=True, scaled=True),
              ParamSpec("?g", "grasp", (), 2, scaled=True),
              ParamSpec("?k", "contact", (), 2),   # a checkpoint from before directions were turned
-             ParamSpec("?p", "placement", (("?g", "grasp"),), 2, outputs=1)]
+             ParamSpec("?p", "placement", (("?g", "grasp"),), 2, outputs=1),
+             ParamSpec("?w", "grasp", (), 2, scaled=True, masses=True)]
     model = MechanismClassifiers(specs, TINY)
     with torch.no_grad():  # non-trivial statistics and priors, so that every term is exercised
         for name, tensor in model.state_dict().items():
@@ -149,12 +177,13 @@ def test_numpy_forward_pass_scores_as_torch_does():
         sizes, poses = rng.uniform(0.02, 0.2, size=(m, 3)), rng.normal(size=(m, 7))
         poses[:, 3:] /= np.linalg.norm(poses[:, 3:], axis=1, keepdims=True)
         f32 = lambda a: torch.tensor(np.asarray(a), dtype=torch.float32)  # noqa: E731
+        masses = rng.normal(size=m)
         batch = Batch(f32(value), [f32(p).expand(rows, -1) for p in parents], f32(present).expand(rows, -1),
                       f32(clouds), torch.arange(m).expand(rows, -1), f32(sizes).expand(rows, -1, -1),
-                      f32(poses).expand(rows, -1, -1))
+                      f32(poses).expand(rows, -1, -1), f32(masses).expand(rows, -1))
         with torch.no_grad():
             expected = classifier.log_score(batch).numpy()
-        got = mirror.log_score(value, parents, present, sizes, poses, shapes[:m])
+        got = mirror.log_score(value, parents, present, sizes, poses, shapes[:m], masses)
         np.testing.assert_allclose(got, expected, rtol=1e-4, atol=1e-4)
         assert np.ptp(got) > 1e-3  # the rows differ: the value reaches the score
 
