@@ -90,7 +90,9 @@ def test_classifiers_read_masses_where_self_play_recorded_them():
         ep["step"] = np.array([0] * 12 + [1])
     specs = parent_specs(episodes)
     assert specs["?g"].masses and specs["?p"].masses
-    model, _ = train_mechanism(episodes, TrainConfig(epochs=30, encoder=TINY, seed=1))
+    model, reports = train_mechanism(episodes, TrainConfig(epochs=30, encoder=TINY, seed=1))
+    grasp = next(r for r in reports if r.variable == "?g")
+    assert grasp.grounding_auc is not None and grasp.grounding_auc > 0.8, grasp   # what probes compare
     data = param_data(episodes, specs["?g"])
     heavy = data.masses[:, 0] > np.log(0.1)
     with torch.no_grad():

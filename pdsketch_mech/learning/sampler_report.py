@@ -62,7 +62,13 @@ def report_markdown(name: str, reports: Sequence[ParamReport], manifest: Dict[st
               "better; verification AUC is the first head alone against verification's outcome. Validation holds "
               "out whole episodes (seeded); the weights of the epoch with the lowest validation loss are kept, so "
               "the validation figures are a little optimistic. '-': the held-out rows hold one class only.",
-              "", f"![learning curves]({png})", ""]
+              ""]
+    first = [r for r in reports if r.grounding_auc is not None]
+    if first:
+        lines += ["The first step's proposals across all held-out episodes, failed ones included (what the "
+                  "planner's probes compare groundings by; with masses read, the classifier learns from them too): "
+                  + ", ".join(f"`{r.variable}` AUC {_fmt(r.grounding_auc)}" for r in first) + ".", ""]
+    lines += [f"![learning curves]({png})", ""]
     return "\n".join(lines)
 
 

@@ -57,6 +57,7 @@ class ParamReport:
     auc: Optional[float] = None              # ranking held-out proposals of successful episodes by log_score
                                              # against "used"; None: one class
     verify_auc: Optional[float] = None       # the "verifies" logit against verification's outcome
+    grounding_auc: Optional[float] = None    # first-step proposals of every episode, failed ones too (used_rows)
     rejected: int = 0                        # rows that are proposals which failed verification
     balanced_accuracy: Optional[float] = None
     best_epoch: Optional[int] = None         # the epoch whose weights were kept (1-based)
@@ -220,3 +221,6 @@ def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, repo
         # predicted "used": both balanced heads above even odds
         report.balanced_accuracy = balanced_accuracy(logits.min(axis=1), data.label[held_rows], threshold=0.0)
         report.verify_auc = roc_auc(logits[:, 1], data.verified[held_rows])
+        if data.spec.masses and data.first_step is not None:
+            first = data.first_step[held_rows] > 0.5   # what a probe compares groundings by
+            report.grounding_auc = roc_auc(score[first], data.label[held_rows][first])

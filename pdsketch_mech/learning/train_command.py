@@ -113,7 +113,9 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
             "selfplay": manifest.get("config", {}), "command": info["command"],
             "validation": {r.variable: {"auc": r.auc, "balanced_accuracy": r.balanced_accuracy,
                                         "verify_auc": r.verify_auc, "rows": r.validation_rows,
-                                        "positives": r.validation_positives}
+                                        "positives": r.validation_positives,
+                                        **({"grounding_auc": r.grounding_auc} if r.grounding_auc is not None
+                                           else {})}
                            for r in reports if not r.skipped},
             "skipped": {r.variable: r.skipped for r in reports if r.skipped}}
     save(checkpoint, model, mechanism, meta)
