@@ -133,8 +133,8 @@ def used_rows(data: ParamData) -> np.ndarray:
     is ranked against the other values of its context; and, with masses read, a value drawn for
     the mechanism's first step of any episode. Every episode's first step starts from a
     task's start, and the planner compares groundings there (planner/probes.py): the grasps
-    of a 30 g fork as the Lever's weight are values of episodes that all failed, and only
-    they teach that no grasp of it is used. Self-play recorded before masses trains by the
+    of a light fork as the Lever's weight are values of episodes that mostly failed, and
+    only they teach that its grasps are seldom used. Self-play recorded before masses trains by the
     first rule alone, so that the commands recorded with its checkpoints still make them."""
     scored = data.success
     if data.spec.masses and data.first_step is not None:
