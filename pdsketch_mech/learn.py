@@ -39,18 +39,14 @@ from __future__ import annotations
 
 import importlib.util
 import os
-import re
 import sys
 import time
 from typing import Dict, List, Optional, Sequence
 
 from .cli import (
     EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, fail, output_error, progress_bar, run_and_exit, seconds, seed, whole,
-    write_text,
 )
-from .lang.errors import PddlError
-
-NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
+from .learning.paths import NAME, repo_path
 
 
 def _parser() -> ArgumentParser:
@@ -117,22 +113,6 @@ def _selfplay_options() -> ArgumentParser:
     return play
 
 
-def _shown(path: str) -> str:
-    """A path as a command to re-run names it: relative to the repository when inside it."""
-    from .learning.extract import REPO_ROOT
-    full = os.path.abspath(path)
-    inside = os.path.commonpath([full, REPO_ROOT]) == REPO_ROOT
-    return os.path.relpath(full, REPO_ROOT) if inside else full
-
-
-def _command_line(demo: str, name: str, out: str, default_out: str) -> str:
-    """How to re-run this extraction."""
-    words = ["python -m pdsketch_mech.learn extract", _shown(demo), "--name", name]
-    if os.path.abspath(out) != os.path.abspath(default_out):
-        words += ["--out", _shown(out)]
-    return " ".join(words)
-
-
 def _inputs(args, config, out: str) -> List[str]:
     """The options of a self-play or training command that name other inputs than the
     defaults (a fragment, a task, a data folder): re-running the command without them would
@@ -140,133 +120,17 @@ def _inputs(args, config, out: str) -> List[str]:
     from .learning.selfplay import default_fragment
     words: List[str] = []
     if os.path.abspath(default_fragment(args.name)) != os.path.abspath(config.fragment):
-        words += ["--fragment", _shown(config.fragment)]
+        words += ["--fragment", repo_path(config.fragment)]
     if args.task is not None:
         words += ["--task", config.task]
     if args.out is not None:
-        words += ["--out", _shown(out)]
+        words += ["--out", repo_path(out)]
     return words
 
 
 def extract_command(args) -> int:
-    from .learning.extract import MECHANISMS_DIR
-    from .learning.recording import load_recording, recording_paths
-
-    npz, js = recording_paths(args.demo)
-    for path in (npz, js):
-        if not os.path.isfile(path):
-            return fail(f"{path}: no such file")
-    if args.name is not None and not NAME.match(args.name):
-        return fail(f"--name {args.name}: a name is a lower-case letter, then letters, digits, '-' or '_'")
-    try:
-        recording = load_recording(args.demo)
-    except (ValueError, OSError, KeyError) as exc:
-        return fail(f"{args.demo}: cannot read the recording: {exc}")
-    name = args.name or str(recording.header.get("task") or recording.header.get("name") or "")
-    if not NAME.match(name):
-        return fail(f"{args.demo}: no usable name in the recording ({name!r}); give --name")
-    default_out = os.path.join(MECHANISMS_DIR, f"{name}.pddl")
-    out = args.out or default_out
-    for error in (output_error(out, "--out", (npz, js), (".pddl",)),
-                  output_error(args.render, "--render", (npz, js, out), (".png",))):
-        if error is not None:
-            return fail(error.message)
-    return _extract(args, recording, name, out, _command_line(npz, name, out, default_out))
-
-
-def _extract(args, recording, name: str, out: str, command: str) -> int:
-    from .learning.extract import check_fragment, extract, fragment_text
-    from .learning.steps import ExtractionError
-    from .learning.timeline import timeline_text
-
-    start = time.perf_counter()
-    try:
-        extraction = extract(recording, name, args.demo)
-    except ExtractionError as exc:
-        return fail(f"{args.demo}: {exc}", EXIT_UNSOLVED)
-    except (KeyError, ValueError, IndexError) as exc:
-        return fail(f"{args.demo}: the recording is malformed ({type(exc).__name__}: {exc})")
-    print(timeline_text(extraction))
-    text = fragment_text(extraction, out, command, sampler=_named_sampler(out, name))
-    try:
-        fragment = check_fragment(text, out)
-    except PddlError as exc:  # a bug, not the user's fault: say so plainly
-        return fail(f"the extracted fragment does not check: {exc}")
-    status = "wrote"
-    if os.path.exists(out):
-        with open(out, encoding="utf-8") as handle:
-            existing_text = handle.read()
-        if existing_text == text:
-            status = "unchanged"
-        elif not args.force:
-            why = _what_differs(out, existing_text, text, fragment)
-            return fail(f"{os.path.relpath(out)} exists and differs: {why} (use --force to replace it)")
-    if status == "wrote":
-        write_text(out, text)
-    steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)
-    print(f"{status} {os.path.relpath(out)}: mechanism {name}, {len(extraction.explanation.steps)} steps {steps}; "
-          f"{time.perf_counter() - start:.1f} s", file=sys.stderr)
-    if args.render:
-        frames = _render(extraction, args.render)
-        print(f"wrote {args.render} (key frames {', '.join(map(str, frames))})", file=sys.stderr)
-    return EXIT_OK
-
-
-def _named_sampler(path: str, name: str) -> Optional[str]:
-    """The learned sampler an existing fragment's mechanism `name` names (kept on re-extraction)."""
-    from .lang.nodes import Domain
-    from .lang.parser import parse_file
-    try:
-        existing = parse_file(path) if os.path.isfile(path) else None
-    except PddlError:
-        return None
-    if not isinstance(existing, Domain):
-        return None
-    return next((m.sampler for m in existing.mechanisms if m.name == name), None)
-
-
-def _what_differs(out: str, existing_text: str, new_text: str, fragment) -> str:
-    """The mechanism-level differences, or else the first line where the texts differ."""
-    from .lang.nodes import Domain
-    from .lang.parser import parse_text
-    from .learning.compare import differences
-
-    try:
-        existing = parse_text(existing_text, file=out)
-    except PddlError as exc:
-        return f"it does not parse ({exc})"
-    if not isinstance(existing, Domain) or len(existing.mechanisms) != 1:
-        return "it is not a fragment with one mechanism"
-    found = differences(existing.mechanisms[0], fragment.mechanisms[0])
-    if found:
-        return "; ".join(found)
-    if existing.extends != fragment.extends:
-        return f"it extends {', '.join(existing.extends)} instead of {', '.join(fragment.extends)}"
-    old, new = existing_text.splitlines(), new_text.splitlines()
-    line = next((i for i, (a, b) in enumerate(zip(old, new)) if a != b), min(len(old), len(new)))
-    what = "comments differ" if all(t.lstrip().startswith(";") for t in old[line:line + 1] + new[line:line + 1]) \
-        else "text differs"
-    return (f"the mechanism is the same up to variable names, but the {what} from line {line + 1} "
-            f"({(old[line] if line < len(old) else '<end of file>').strip()[:60]!r})")
-
-
-def _render(extraction, path: str) -> List[int]:
-    import numpy as np
-
-    from .envs.demos.show import camera_for, draw_contacts, replay_world, set_frame
-    from .learning.timeline import key_frames, render_timeline
-    from .world.render import render
-
-    recording = extraction.segmentation.recording
-    frames = key_frames(extraction)
-    camera = camera_for(recording, 320, 240)
-    images = []
-    with replay_world(recording) as world:
-        for frame in frames:
-            set_frame(world, recording, frame)
-            images.append(np.asarray(draw_contacts(render(world, camera), world, camera, recording, frame)))
-    render_timeline(extraction, path, frames, images)
-    return frames
+    from .learning.extract_command import extract_command as run
+    return run(args)
 
 
 def selfplay_command(args) -> int:
@@ -306,7 +170,7 @@ def train_command(args) -> int:
     if args.epochs is not None:
         words += ["--epochs", str(args.epochs)]
     if args.checkpoint is not None:
-        words += ["--checkpoint", _shown(checkpoint)]
+        words += ["--checkpoint", repo_path(checkpoint)]
     info = {"command": " ".join(words), "task": config.task, "seconds_selfplay": selfplay_s}
     try:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
@@ -372,7 +236,7 @@ def _prepare_selfplay(args):
                             split, args.grounding, args.context)
     try:
         os.makedirs(out, exist_ok=True)
-        open_folder(out, config.identity(), _shown(config.fragment))
+        open_folder(out, config.identity(), repo_path(config.fragment))
     except StoreError as exc:
         return fail(str(exc))
     except OSError as exc:

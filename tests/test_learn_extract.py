@@ -40,12 +40,13 @@ import sys
 
 import numpy as np
 
-from pdsketch_mech import learn as learn_cli
+from pdsketch_mech.learning import extract_command
 from pdsketch_mech.lang import nodes as n
 from pdsketch_mech.lang.loader import load_domain, load_problem, read_domain_file
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.learning.compare import differences, equivalent
-from pdsketch_mech.learning.extract import MECHANISMS_DIR, extract, fragment_text
+from pdsketch_mech.learning.extract import extract, fragment_text
+from pdsketch_mech.learning.paths import MECHANISMS_DIR
 from pdsketch_mech.learning.recording import load_recording, save_recording
 from pdsketch_mech.learning.segmentation import debounce
 from pdsketch_mech.learning.steps import ExtractionError
@@ -164,8 +165,8 @@ def test_committed_fragment_is_what_extraction_writes(demo):
     name = FRAGMENT.get(demo, demo)
     path = os.path.join(MECHANISMS_DIR, f"{name}.pddl")
     npz = os.path.join(DEMOS_DIR, f"{demo}.npz")
-    command = learn_cli._command_line(npz, name, path, path)
-    sampler = learn_cli._named_sampler(path, name)   # `learn train` adds it; extraction keeps it
+    command = extract_command.command_line(npz, name, path, path)
+    sampler = extract_command.named_sampler(path, name)   # `learn train` adds it; extraction keeps it
     with open(path, encoding="utf-8") as handle:
         assert handle.read() == fragment_text(extracted(demo), path, command, sampler=sampler)
     loaded = load_domain([path])                  # parses and type-checks with the basis

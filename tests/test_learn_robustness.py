@@ -15,7 +15,8 @@ import pytest
 from pdsketch_mech import demo as demo_cli
 from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import read_domain_file
-from pdsketch_mech.learning.extract import MECHANISMS_DIR, extract
+from pdsketch_mech.learning.extract import extract
+from pdsketch_mech.learning.paths import MECHANISMS_DIR
 from pdsketch_mech.learning.recording import load_recording
 
 from conftest import ROOT

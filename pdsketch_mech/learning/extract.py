@@ -19,13 +19,11 @@ from ..lang.parser import parse_text
 from ..lang.writer import formula, write_domain
 from ..symbolic.normalize import dnf
 from .lifting import Lifted, lift
+from .paths import BASIS
 from .recording import Recording
 from .segmentation import Segmentation, segment
 from .steps import Explanation, ExtractionError, Fact, explain
 
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BASIS = os.path.join(REPO_ROOT, "domains", "basis.pddl")
-MECHANISMS_DIR = os.path.join(REPO_ROOT, "domains", "mechanisms")
 
 
 @dataclass

@@ -246,5 +246,5 @@ def episode_arrays(episode: int, instance_seed: int, planner_seed: int, success:
 
 
 def default_fragment(name: str) -> str:
-    from .extract import MECHANISMS_DIR
+    from .paths import MECHANISMS_DIR
     return os.path.join(MECHANISMS_DIR, f"{name}.pddl")
