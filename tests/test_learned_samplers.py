@@ -102,6 +102,25 @@ def test_classifiers_read_masses_where_self_play_recorded_them():
     assert roc_auc(score[verified], heavy[verified].astype(float)) > 0.9
 
 
+def test_a_mass_that_barely_varied_in_training_is_not_read_as_far_off():
+    """Every Lever plate of self-play weighs 150-180 g: standardised by that spread, a test
+    plate of 250 g would be several deviations off and the classifier would extrapolate. A log
+    mass is standardised by at least MASS_STD_FLOOR."""
+    from pdsketch_mech.samplers.learned.model import Batch, ParamClassifier
+    from pdsketch_mech.samplers.learned.specs import MASS_STD_FLOOR, POSE, SIZE
+    rows = 50
+    masses = torch.log(torch.linspace(0.15, 0.18, rows)).view(rows, 1)
+    batch = Batch(torch.zeros(rows, 8), [], torch.zeros(rows, 0), torch.zeros(1, 8, 3),
+                  torch.zeros(rows, 1, dtype=torch.long), torch.ones(rows, 1, 3),
+                  torch.tensor([0.0, 0, 0, 0, 0, 0, 1]).expand(rows, 1, 7), masses)
+    classifier = ParamClassifier(ParamSpec("?g", "grasp", (), 1, masses=True), TINY)
+    classifier.fit_statistics(batch)
+    norm = classifier.object_norm[0]
+    assert float(norm.std[POSE + SIZE]) >= MASS_STD_FLOOR
+    test_plate = (np.log(0.25) - float(norm.mean[POSE + SIZE])) / float(norm.std[POSE + SIZE])
+    assert abs(test_plate) < 1.0
+
+
 def test_rejected_proposals_beyond_the_cap_are_subsampled_and_weighted():
     episodes = synthetic_episodes(3)
     for ep in episodes:                      # 1000 rejected grasps per episode

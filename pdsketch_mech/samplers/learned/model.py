@@ -27,8 +27,8 @@ import torch
 from torch import nn
 
 from .pointnet import PointNetEncoder
-from .specs import (HIDDEN, MIN_HALF_EXTENT, SHAPE_PROJECTION, EncoderConfig, ParamSpec, framed_columns,
-                    object_features, scaled_columns, width)
+from .specs import (HIDDEN, MASS_STD_FLOOR, MIN_HALF_EXTENT, POSE, SHAPE_PROJECTION, SIZE, EncoderConfig,
+                    ParamSpec, framed_columns, object_features, scaled_columns, width)
 
 
 @dataclass
@@ -126,6 +126,8 @@ class ParamClassifier(nn.Module):
         inputs = self.object_inputs(batch)
         for m, norm in enumerate(self.object_norm):
             norm.fit(inputs[:, m])
+            if self.spec.masses:   # the column after pose and size (object_inputs)
+                norm.std[POSE + SIZE].clamp_(min=MASS_STD_FLOOR)
         for p, norm in enumerate(self.parent_norm):
             rows = batch.present[:, p] > 0
             if rows.any():

@@ -16,6 +16,11 @@ SHAPE_PROJECTION = 32  # a shape's embedding as an object encoder reads it
 POSE = 7               # translation + quaternion (x, y, z, w)
 SIZE = 3               # half-extents
 MASS = 1               # log kg (encoding.mass_features), with `masses`
+# The least standard deviation a log mass is standardised by. A role whose mass barely varies
+# in self-play (every Lever plate weighs 150-180 g) would otherwise read a test plate of
+# 250 g as many deviations off, and the classifier extrapolates; with the floor a body must
+# weigh e times another to read one deviation apart.
+MASS_STD_FLOOR = 1.0
 
 # Columns of a value that are world positions, per kind (start, stop): expressed in each
 # object's frame as extra features. A grasp is already in its object's frame.
