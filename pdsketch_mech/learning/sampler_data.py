@@ -47,8 +47,7 @@ class ParamData:
     verified: np.ndarray         # (n,): 1 a value, 0 a proposal that failed verification
     success: np.ndarray          # (n,): 1 if the row's episode succeeded
     weight: np.ndarray           # (n,): how many rows each stands for (rejected ones subsampled)
-    masses: Optional[np.ndarray] = None  # (n, M) log kg, for specs with `masses`
-    first_step: Optional[np.ndarray] = None  # (n,): 1 if drawn for the mechanism's first step
+    first_step: np.ndarray       # (n,): 1 if drawn for the mechanism's first step
 
     def __len__(self) -> int:
         return len(self.label)
@@ -111,10 +110,8 @@ def parent_specs(episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[str, ParamSp
                     parents.setdefault(var, set()).add(str(ep["param"][p]))
                     kinds[str(ep["param"][p])] = row_kind(ep, p)
                     order[str(ep["param"][p])] = int(ep["param_index"][p])
-    # Masses where every episode recorded them (self-play older than that recorded none).
-    masses = all("episode_masses" in ep for ep in episodes)
     return {var: ParamSpec(var, kind, tuple((p, kinds[p]) for p in sorted(parents.get(var, ()), key=order.get)),
-                           objects, axes=True, scaled=True, masses=masses)
+                           objects, axes=True, scaled=True)
             for var, kind in sorted(kinds.items(), key=lambda kv: order[kv[0]])}
 
 
@@ -124,8 +121,8 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
     (rejected proposals subsampled beyond REJECTED_CAP per value, by `seed`, unless not
     `subsample`: evaluation scores every proposal)."""
     urdf_ids: Dict[str, int] = {}
-    cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "masses", "poses", "label",
-                                             "episode", "verified", "success", "first_step")}
+    cols: Dict[str, list] = {k: [] for k in ("value", "present", "cloud", "sizes", "poses", "label", "episode",
+                                             "verified", "success", "first_step")}
     parent_rows: List[list] = [[] for _ in spec.parents]
     for ep in episodes:
         assets = [str(a) for a in ep["episode_assets"][0]]
@@ -133,10 +130,6 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
         urdfs = [resolve_asset(a) for a in assets]
         ids = [urdf_ids.setdefault(u, len(urdf_ids)) for u in urdfs]
         sizes = [size_features(u, s) for u, s in zip(urdfs, scales)]
-        if spec.masses and "episode_masses" not in ep:
-            raise StoreError(f"self-play episode {int(ep['episode_id'][0])} records no masses, which the "
-                             f"classifier of {spec.variable} reads: self-play again with this version")
-        masses = [float(x) for x in ep["episode_masses"][0]] if spec.masses else [0.0] * len(urdfs)
         for row in np.flatnonzero(ep["param"] == spec.variable):
             if row_kind(ep, row) != spec.kind:
                 continue
@@ -149,7 +142,6 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
             cols["value"].append(canonical(row_value(ep, row, spec.kind, "proposal"), spec.kind))
             cols["cloud"].append(ids)
             cols["sizes"].append(sizes)
-            cols["masses"].append(masses)
             cols["poses"].append(canonical(ep["poses"][row], "placement"))  # poses in a placement's layout
             cols["label"].append(int(ep["label"][row]))
             cols["episode"].append(int(ep["episode_id"][0]))
@@ -171,7 +163,6 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
                      f32(cols["poses"], (n, m, 7)), np.asarray(cols["label"], dtype=np.float32),
                      np.asarray(cols["episode"], dtype=np.int64), verified[keep],
                      np.asarray(cols["success"], dtype=np.float32), weight[keep],
-                     f32(cols["masses"], (n, m)) if spec.masses else None,
                      np.asarray(cols["first_step"], dtype=np.float32))
 
 

@@ -66,7 +66,7 @@ def report_markdown(name: str, reports: Sequence[ParamReport], manifest: Dict[st
     first = [r for r in reports if r.grounding_auc is not None]
     if first:
         lines += ["The first step's proposals across all held-out episodes, failed ones included (what the "
-                  "planner's probes compare groundings by; with masses read, the classifier learns from them too): "
+                  "planner's probes compare groundings by; the classifier learns from successful episodes only): "
                   + ", ".join(f"`{r.variable}` AUC {_fmt(r.grounding_auc)}" for r in first) + ".", ""]
     lines += [f"![learning curves]({png})", ""]
     return "\n".join(lines)

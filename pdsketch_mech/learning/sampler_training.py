@@ -57,7 +57,7 @@ class ParamReport:
     auc: Optional[float] = None              # ranking held-out proposals of successful episodes by log_score
                                              # against "used"; None: one class
     verify_auc: Optional[float] = None       # the "verifies" logit against verification's outcome
-    grounding_auc: Optional[float] = None    # first-step proposals of every episode, failed ones too (used_rows)
+    grounding_auc: Optional[float] = None    # first-step proposals of every episode, failed ones too
     rejected: int = 0                        # rows that are proposals which failed verification
     balanced_accuracy: Optional[float] = None
     best_epoch: Optional[int] = None         # the epoch whose weights were kept (1-based)
@@ -95,8 +95,7 @@ def balanced_accuracy(scores: np.ndarray, labels: np.ndarray, threshold: float =
 def to_batch(data: ParamData, rows: np.ndarray, clouds: torch.Tensor) -> Batch:
     t = torch.from_numpy
     return Batch(t(data.value[rows]), [t(p[rows]) for p in data.parents], t(data.present[rows]), clouds,
-                 t(data.cloud_index[rows]), t(data.sizes[rows]), t(data.poses[rows]),
-                 None if data.masses is None else t(data.masses[rows]))
+                 t(data.cloud_index[rows]), t(data.sizes[rows]), t(data.poses[rows]))
 
 
 def train_mechanism(episodes: Sequence[Dict[str, np.ndarray]], config: TrainConfig,
@@ -128,31 +127,16 @@ def balance(labels: np.ndarray, weights: np.ndarray) -> float:
     return neg / pos if pos > 0 and neg > 0 else 1.0
 
 
-def used_rows(data: ParamData) -> np.ndarray:
-    """(n,) 1 where the "used" logit learns from a row: a value of a successful episode, which
-    is ranked against the other values of its context; and, with masses read, a value drawn for
-    the mechanism's first step of any episode. Every episode's first step starts from a
-    task's start, and the planner compares groundings there (planner/probes.py): the grasps
-    of a light fork as the Lever's weight are values of episodes that mostly failed, and
-    only they teach that its grasps are seldom used. Self-play recorded before masses trains by the
-    first rule alone, so that the commands recorded with its checkpoints still make them."""
-    scored = data.success
-    if data.spec.masses and data.first_step is not None:
-        scored = np.maximum(scored, data.first_step)
-    return data.verified * scored
-
-
 class TwoHeadLoss:
     """Weighted BCE of the "used" logit on values plus the "verifies" logit on all rows."""
 
     def __init__(self, data: ParamData, rows: np.ndarray):
-        scored = used_rows(data)
-        values = rows[scored[rows] > 0.5]
+        values = rows[(data.verified[rows] > 0.5) & (data.success[rows] > 0.5)]
         self.used_weight = balance(data.label[values], data.weight[values])
         self.verify_weight = balance(data.verified[rows], data.weight[rows])
         self.used = torch.from_numpy(data.label)
         self.verified = torch.from_numpy(data.verified)
-        self.scored = torch.from_numpy(scored.astype(np.float32))  # rows the "used" logit learns from
+        self.scored = torch.from_numpy(data.verified * data.success)  # rows the "used" logit learns from
         self.weight = torch.from_numpy(data.weight)
 
     def shift(self) -> torch.Tensor:
@@ -221,6 +205,8 @@ def _train_one(classifier: nn.Module, data: ParamData, config: TrainConfig, repo
         # predicted "used": both balanced heads above even odds
         report.balanced_accuracy = balanced_accuracy(logits.min(axis=1), data.label[held_rows], threshold=0.0)
         report.verify_auc = roc_auc(logits[:, 1], data.verified[held_rows])
-        if data.spec.masses and data.first_step is not None:
-            first = data.first_step[held_rows] > 0.5   # what a probe compares groundings by
+        if data.first_step.any():
+            # Across episodes, failed ones included: what the planner's probes compare
+            # groundings by (planner/probes.py), which the "used" logit never learns directly.
+            first = data.first_step[held_rows] > 0.5
             report.grounding_auc = roc_auc(score[first], data.label[held_rows][first])

@@ -53,9 +53,10 @@ MIN_MASS_KG = 1e-3
 
 
 def mass_features(world: "World", names) -> np.ndarray:
-    """(len(names),) the log of each body's mass in kg. Which object can tip a lever is told by
-    its weight, not its shape: a task's heavy object and its distractors are drawn from the
-    same categories."""
+    """(len(names),) the log of each body's mass in kg, as self-play records it. Which object
+    can tip a lever is told by its weight, not its shape: a task's heavy object and its
+    distractors are drawn from the same categories. (No classifier reads it yet: reading it
+    changed no Lever plan; results/HISTORY.md, 2026-11-28.)"""
     masses = [FIXED_MASS_KG if world.bodies[n].fixed else max(world.mass(n), MIN_MASS_KG) for n in names]
     return np.log(np.asarray(masses, dtype=float))
 

@@ -8,7 +8,7 @@ the layout); tests check that both passes give the same scores.
 """
 from __future__ import annotations
 
-from typing import Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Dict, List, Mapping, Sequence, Tuple
 
 import numpy as np
 
@@ -121,19 +121,14 @@ class NumpyClassifier:
         return layers.linear("shape_projection", pooled)
 
     def log_score(self, value: np.ndarray, parents: Sequence[np.ndarray], present: np.ndarray,
-                  sizes: np.ndarray, poses: np.ndarray, shapes: np.ndarray,
-                  masses: Optional[np.ndarray] = None) -> np.ndarray:
+                  sizes: np.ndarray, poses: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         """(B,) `ParamClassifier.log_score` of B values (B, width) in one context: parents (one
         (width,) row each, zeros when absent), present (P,), sizes (M, 3), poses (M, 7),
-        shapes (M, SHAPE_PROJECTION), masses (M,) log kg (read only by specs with `masses`)."""
+        shapes (M, SHAPE_PROJECTION)."""
         layers, rows = self.layers, len(value)
-        if self.spec.masses and masses is None:
-            raise ValueError(f"the classifier of {self.spec.variable} reads masses: none were given")
         parts: List[np.ndarray] = []
         for m in range(self.spec.objects):
             inputs = [np.broadcast_to(poses[m], (rows, POSE)), np.broadcast_to(sizes[m], (rows, SIZE))]
-            if self.spec.masses:
-                inputs.append(np.full((rows, 1), float(masses[m])))
             framed = {}
             for start, stop, is_point in framed_columns(self.spec):
                 columns = value[:, start:stop] - poses[m, :3] if is_point else value[:, start:stop]
@@ -188,7 +183,7 @@ class NumpyClassifiers:
             classifier.log_score(np.zeros((2, width(spec.kind))), [np.zeros(width(k)) for _, k in spec.parents],
                                  np.zeros(len(spec.parents)), np.ones((spec.objects, 3)),
                                  np.tile([0.0, 0, 0, 0, 0, 0, 1], (spec.objects, 1)),
-                                 np.tile(shape, (spec.objects, 1)), np.zeros(spec.objects))
+                                 np.tile(shape, (spec.objects, 1)))
 
     def __contains__(self, variable: object) -> bool:
         return isinstance(variable, str) and variable.lstrip("?") in self.by_variable

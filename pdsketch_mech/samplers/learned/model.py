@@ -27,8 +27,8 @@ import torch
 from torch import nn
 
 from .pointnet import PointNetEncoder
-from .specs import (HIDDEN, MASS_STD_FLOOR, MIN_HALF_EXTENT, POSE, SHAPE_PROJECTION, SIZE, EncoderConfig,
-                    ParamSpec, framed_columns, object_features, scaled_columns, width)
+from .specs import (HIDDEN, MIN_HALF_EXTENT, SHAPE_PROJECTION, EncoderConfig, ParamSpec, framed_columns,
+                    object_features, scaled_columns, width)
 
 
 @dataclass
@@ -42,13 +42,11 @@ class Batch:
     cloud_index: torch.Tensor            # (B, M) long: each object's row in `clouds`
     sizes: torch.Tensor                  # (B, M, 3)
     poses: torch.Tensor                  # (B, M, 7)
-    masses: Optional[torch.Tensor] = None  # (B, M) log kg: read by specs with `masses`
     extra: Dict[str, torch.Tensor] = field(default_factory=dict)
 
     def rows(self, index: torch.Tensor) -> "Batch":
         return Batch(self.value[index], [p[index] for p in self.parents], self.present[index], self.clouds,
-                     self.cloud_index[index], self.sizes[index], self.poses[index],
-                     None if self.masses is None else self.masses[index])
+                     self.cloud_index[index], self.sizes[index], self.poses[index])
 
 
 def quat_rotate_inverse(q: torch.Tensor, v: torch.Tensor) -> torch.Tensor:
@@ -102,15 +100,11 @@ class ParamClassifier(nn.Module):
             self.register_buffer("prior_shift", torch.zeros(spec.outputs))
 
     def object_inputs(self, batch: Batch) -> torch.Tensor:
-        """(B, M, `object_features`): each object's pose, size and (with `masses`) log mass,
-        the value's positions (and, with `axes`, directions) in that object's frame, and (with
-        `scaled`) its positions in that object's half-extents."""
+        """(B, M, `object_features`): each object's pose and size, the value's positions (and,
+        with `axes`, directions) in that object's frame, and (with `scaled`) its positions in
+        that object's half-extents."""
         poses = batch.poses
         parts = [poses, batch.sizes]
-        if self.spec.masses:
-            if batch.masses is None:
-                raise ValueError(f"the classifier of {self.spec.variable} reads masses: the batch has none")
-            parts.append(batch.masses.unsqueeze(-1))
         framed = {}
         for start, stop, is_point in framed_columns(self.spec):
             columns = batch.value[:, start:stop].unsqueeze(1).expand(-1, poses.shape[1], -1)
@@ -126,8 +120,6 @@ class ParamClassifier(nn.Module):
         inputs = self.object_inputs(batch)
         for m, norm in enumerate(self.object_norm):
             norm.fit(inputs[:, m])
-            if self.spec.masses:   # the column after pose and size (object_inputs)
-                norm.std[POSE + SIZE].clamp_(min=MASS_STD_FLOOR)
         for p, norm in enumerate(self.parent_norm):
             rows = batch.present[:, p] > 0
             if rows.any():

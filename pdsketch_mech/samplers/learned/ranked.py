@@ -62,7 +62,7 @@ from ...disk_cache import content_key, load_arrays, store_arrays
 from ..interface import Sampler, SampleRequest
 from .checkpoint import context_count, load_numpy
 from .context import context_objects
-from .encoding import encode_as, encode_proposal, mass_features, pose_array
+from .encoding import encode_as, encode_proposal, pose_array
 from .forward import NumpyClassifiers
 from .specs import width
 from .shapes import cloud_key, size_features, unit_cloud
@@ -130,7 +130,7 @@ class LearnedMechanism:
                 np.array([float(value is not None) for value in parents]),
                 np.array([size_features(b.urdf, b.scale) for b in bodies]),
                 np.array([pose_array(world.pose(o)) for o in objects]),
-                shapes, mass_features(world, objects) if classifier.spec.masses else None)
+                shapes)
             out[[i for i in range(len(proposals)) if numbers[i] is None]] = np.median(out[known])
         # Shapes embedded for the first time during this call are timed apart (shape_seconds).
         self.score_seconds.append(time.perf_counter() - started - sum(self.shape_seconds[embedded:]))

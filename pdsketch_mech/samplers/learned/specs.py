@@ -15,12 +15,6 @@ HIDDEN = 64            # width of every MLP and of the head's input parts
 SHAPE_PROJECTION = 32  # a shape's embedding as an object encoder reads it
 POSE = 7               # translation + quaternion (x, y, z, w)
 SIZE = 3               # half-extents
-MASS = 1               # log kg (encoding.mass_features), with `masses`
-# The least standard deviation a log mass is standardised by. A role whose mass barely varies
-# in self-play (every Lever plate weighs 150-180 g) would otherwise read a test plate of
-# 250 g as many deviations off, and the classifier extrapolates; with the floor a body must
-# weigh e times another to read one deviation apart.
-MASS_STD_FLOOR = 1.0
 
 # Columns of a value that are world positions, per kind (start, stop): expressed in each
 # object's frame as extra features. A grasp is already in its object's frame.
@@ -61,11 +55,9 @@ def scaled_columns(spec: "ParamSpec") -> Tuple[Tuple[int, int, bool], ...]:
 
 
 def object_features(spec: "ParamSpec") -> int:
-    """Per context object: pose, size, (with `masses`) its log mass, the value's
-    `framed_columns` in that object's frame, and its `scaled_columns` in that object's
-    half-extents."""
-    return (POSE + SIZE + (MASS if spec.masses else 0) + 3 * len(framed_columns(spec))
-            + 3 * len(scaled_columns(spec)))
+    """Per context object: pose, size, the value's `framed_columns` in that object's frame, and
+    its `scaled_columns` in that object's half-extents."""
+    return POSE + SIZE + 3 * len(framed_columns(spec)) + 3 * len(scaled_columns(spec))
 
 
 def width(kind: str) -> int:
@@ -84,18 +76,16 @@ class ParamSpec:
     outputs: int = 2    # 2: (used | verified, verifies), trained on proposals; 1: used, trained on values
     axes: bool = False  # the value's directions in each object's frame too (AXES)
     scaled: bool = False  # the value's positions in each object's half-extents too (scaled_columns)
-    masses: bool = False  # each object's log mass too (self-play data older than this has none)
 
     def to_json(self) -> dict:
         return {"variable": self.variable, "kind": self.kind, "parents": [list(p) for p in self.parents],
                 "objects": self.objects, "outputs": self.outputs, "axes": self.axes,
-                "scaled": self.scaled, "masses": self.masses}
+                "scaled": self.scaled}
 
     @classmethod
     def from_json(cls, data: dict) -> "ParamSpec":
         return cls(data["variable"], data["kind"], tuple(tuple(p) for p in data["parents"]), int(data["objects"]),
-                   int(data.get("outputs", 1)), bool(data.get("axes", False)), bool(data.get("scaled", False)),
-                   bool(data.get("masses", False)))
+                   int(data.get("outputs", 1)), bool(data.get("axes", False)), bool(data.get("scaled", False)))
 
 
 @dataclass(frozen=True)
