@@ -74,6 +74,8 @@ def run_and_exit(main: Callable[[], int]) -> NoReturn:
     # leaked under a Ctrl-C's "interrupted" (`learn selfplay --workers K`).
     spawned = sys.modules.get("multiprocessing.util")
     if spawned is not None:
+        if process.interrupted():
+            process.kill_children()   # so that stopping the pool takes no longer than GRACE
         spawned._exit_function()
     for stream in (sys.stdout, sys.stderr):
         try:

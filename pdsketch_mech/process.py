@@ -156,4 +156,24 @@ def _force_exit() -> None:
     if not _reported.is_set():
         _reported.set()
         os.write(_report_fd, b"interrupted\n")
+    kill_children()
     os._exit(EXIT_INTERRUPTED)
+
+
+def kill_children() -> None:
+    """End the process's worker processes (`--workers K`) at once: they ignore Ctrl-C, and
+    after an os._exit they would run on through their episode, holding the command's output
+    pipes open (a pool's own shutdown waits on them, and on a loaded machine outlasts GRACE).
+    Multiprocessing's resource tracker may then warn of the pool's semaphores."""
+    multiprocessing = sys.modules.get("multiprocessing")
+    if multiprocessing is None:
+        return
+    try:
+        children = multiprocessing.active_children()
+    except Exception:  # the main thread may be stopping them too; its list can change under us
+        return
+    for child in children:
+        try:
+            child.kill()
+        except Exception:
+            pass

@@ -219,6 +219,37 @@ def test_a_ctrl_c_with_worker_processes_running_says_only_interrupted(tmp_path):
     assert (run.returncode, err) == (130, "interrupted\n")
 
 
+def test_a_ctrl_c_that_ends_the_process_at_once_ends_its_workers_too(tmp_path):
+    """A Ctrl-C outside `main`, or one whose pool takes longer than GRACE to stop (a loaded
+    CI machine), ends the process with os._exit; its spawn workers ignore Ctrl-C and lived on
+    through their task, holding the output pipes open (seen once in CI: the test above
+    waited 30 s)."""
+    script = tmp_path / "orphans.py"
+    script.write_text("import multiprocessing, signal, time\n"
+                      "from pdsketch_mech import process\n"
+                      "def quiet():\n"
+                      "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+                      "def work(x):\n"
+                      "    time.sleep(30)\n"
+                      "if __name__ == '__main__':\n"
+                      "    process.install_interrupt_handler()\n"
+                      "    pool = multiprocessing.get_context('spawn').Pool(2, initializer=quiet)\n"
+                      "    result = pool.map_async(work, range(2))\n"
+                      "    print('started', flush=True)\n"
+                      "    result.wait()\n")
+    run = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           cwd=ROOT, env={**os.environ, "PYTHONPATH": ROOT})
+    try:
+        assert run.stdout.readline() == "started\n"
+        time.sleep(1.0)
+        run.send_signal(signal.SIGINT)
+        _, err = run.communicate(timeout=10)   # the pipes close when the workers are gone too
+    finally:
+        run.kill()
+    # (the resource tracker may add a warning about the pool's semaphores in this path)
+    assert run.returncode == 130 and err.startswith("interrupted\n")
+
+
 def test_an_interrupt_during_an_import_is_recognised(tmp_path, monkeypatch):
     """Ctrl-C while a module is being imported exits at once instead of raising into the
     import (raised into a native extension's initialisation, it aborted with SIGABRT: seen
