@@ -189,34 +189,44 @@ def test_ctrl_c_at_any_moment_ends_a_run_within_half_a_second(delay):
     check_interrupted(delay)
 
 
-def test_a_ctrl_c_with_worker_processes_running_says_only_interrupted(tmp_path):
-    """`learn selfplay --workers K` runs a spawn pool; ended by os._exit, which skips the
-    interpreter's teardown, its semaphores stayed registered and the resource tracker printed
-    a leaked-semaphore warning under "interrupted"."""
+POOL_SCRIPT = ("import multiprocessing, signal, time\n"
+               "from pdsketch_mech import process\n"
+               "from pdsketch_mech.cli import run_and_exit\n"
+               "def quiet():\n"
+               "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+               "def work(x):\n"
+               "    time.sleep(30)\n")
+
+
+def interrupt_pool(tmp_path, main: str):
+    """Run a script whose spawn pool of two workers (ignoring Ctrl-C) sleeps 30 s a task;
+    `main` prints 'started' and waits on it. Ctrl-C 1 s after: (exit status, stderr), or
+    TimeoutExpired if the output pipes stay open 10 s (workers outliving the process)."""
     script = tmp_path / "pool.py"
-    script.write_text("import multiprocessing, signal, time\n"
-                      "from pdsketch_mech.cli import run_and_exit\n"
-                      "def quiet():\n"
-                      "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
-                      "def work(x):\n"
-                      "    time.sleep(30)\n"
-                      "def main():\n"
-                      "    pool = multiprocessing.get_context('spawn').Pool(2, initializer=quiet)\n"
-                      "    print('started', flush=True)\n"
-                      "    for _ in pool.imap_unordered(work, range(4)):\n"
-                      "        pass\n"
-                      "if __name__ == '__main__':\n"
-                      "    run_and_exit(main)\n")
+    script.write_text(POOL_SCRIPT + main)
     run = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                            cwd=ROOT, env={**os.environ, "PYTHONPATH": ROOT})
     try:
         assert run.stdout.readline() == "started\n"
         time.sleep(1.0)
         run.send_signal(signal.SIGINT)
-        _, err = run.communicate(timeout=30)
+        _, err = run.communicate(timeout=10)
     finally:
         run.kill()
-    assert (run.returncode, err) == (130, "interrupted\n")
+    return run.returncode, err
+
+
+def test_a_ctrl_c_with_worker_processes_running_says_only_interrupted(tmp_path):
+    """`learn selfplay --workers K` runs a spawn pool; ended by os._exit, which skips the
+    interpreter's teardown, its semaphores stayed registered and the resource tracker printed
+    a leaked-semaphore warning under "interrupted"."""
+    assert interrupt_pool(tmp_path, "def main():\n"
+                                    "    pool = multiprocessing.get_context('spawn').Pool(2, initializer=quiet)\n"
+                                    "    print('started', flush=True)\n"
+                                    "    for _ in pool.imap_unordered(work, range(4)):\n"
+                                    "        pass\n"
+                                    "if __name__ == '__main__':\n"
+                                    "    run_and_exit(main)\n") == (130, "interrupted\n")
 
 
 def test_a_ctrl_c_that_ends_the_process_at_once_ends_its_workers_too(tmp_path):
@@ -224,30 +234,14 @@ def test_a_ctrl_c_that_ends_the_process_at_once_ends_its_workers_too(tmp_path):
     CI machine), ends the process with os._exit; its spawn workers ignore Ctrl-C and lived on
     through their task, holding the output pipes open (seen once in CI: the test above
     waited 30 s)."""
-    script = tmp_path / "orphans.py"
-    script.write_text("import multiprocessing, signal, time\n"
-                      "from pdsketch_mech import process\n"
-                      "def quiet():\n"
-                      "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
-                      "def work(x):\n"
-                      "    time.sleep(30)\n"
-                      "if __name__ == '__main__':\n"
-                      "    process.install_interrupt_handler()\n"
-                      "    pool = multiprocessing.get_context('spawn').Pool(2, initializer=quiet)\n"
-                      "    result = pool.map_async(work, range(2))\n"
-                      "    print('started', flush=True)\n"
-                      "    result.wait()\n")
-    run = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                           cwd=ROOT, env={**os.environ, "PYTHONPATH": ROOT})
-    try:
-        assert run.stdout.readline() == "started\n"
-        time.sleep(1.0)
-        run.send_signal(signal.SIGINT)
-        _, err = run.communicate(timeout=10)   # the pipes close when the workers are gone too
-    finally:
-        run.kill()
+    status, err = interrupt_pool(tmp_path, "if __name__ == '__main__':\n"
+                                           "    process.install_interrupt_handler()\n"
+                                           "    pool = multiprocessing.get_context('spawn').Pool(2, initializer=quiet)\n"
+                                           "    result = pool.map_async(work, range(2))\n"
+                                           "    print('started', flush=True)\n"
+                                           "    result.wait()\n")
     # (the resource tracker may add a warning about the pool's semaphores in this path)
-    assert run.returncode == 130 and err.startswith("interrupted\n")
+    assert status == 130 and err.startswith("interrupted\n")
 
 
 def test_an_interrupt_during_an_import_is_recognised(tmp_path, monkeypatch):
