@@ -201,7 +201,10 @@ POOL_SCRIPT = ("import multiprocessing, signal, time\n"
 def interrupt_pool(tmp_path, main: str):
     """Run a script whose spawn pool of two workers (ignoring Ctrl-C) sleeps 30 s a task;
     `main` prints 'started' and waits on it. Ctrl-C 1 s after: (exit status, stderr), or
-    TimeoutExpired if the output pipes stay open 10 s (workers outliving the process)."""
+    TimeoutExpired if the output pipes stay open 10 s (workers outliving the process).
+    `main` installs the commands' Ctrl-C handler as every command does: a shell without job
+    control (CI's, run in the background) starts its children with Ctrl-C ignored, and
+    Python keeps it so."""
     script = tmp_path / "pool.py"
     script.write_text(POOL_SCRIPT + main)
     run = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -226,6 +229,7 @@ def test_a_ctrl_c_with_worker_processes_running_says_only_interrupted(tmp_path):
                                     "    for _ in pool.imap_unordered(work, range(4)):\n"
                                     "        pass\n"
                                     "if __name__ == '__main__':\n"
+                                    "    process.install_interrupt_handler()\n"
                                     "    run_and_exit(main)\n") == (130, "interrupted\n")
 
 
