@@ -130,6 +130,7 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
         urdfs = [resolve_asset(a) for a in assets]
         ids = [urdf_ids.setdefault(u, len(urdf_ids)) for u in urdfs]
         sizes = [size_features(u, s) for u, s in zip(urdfs, scales)]
+        first_step = ep["step"] == 0 if "step" in ep else np.zeros(len(ep["param"]), dtype=bool)
         for row in np.flatnonzero(ep["param"] == spec.variable):
             if row_kind(ep, row) != spec.kind:
                 continue
@@ -147,7 +148,7 @@ def param_data(episodes: Sequence[Dict[str, np.ndarray]], spec: ParamSpec, seed:
             cols["episode"].append(int(ep["episode_id"][0]))
             cols["verified"].append(int(ep["verified"][row]) if "verified" in ep else 1)
             cols["success"].append(float(ep["episode_success"][0]))
-            cols["first_step"].append(float("step" in ep and int(ep["step"][row]) == 0))
+            cols["first_step"].append(float(first_step[row]))
     verified = np.asarray(cols["verified"], dtype=np.float32)
     keep, weight = _subsample_rejected(verified, seed) if subsample else (np.arange(len(verified)),
                                                                           np.ones(len(verified), np.float32))
