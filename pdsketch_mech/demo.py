@@ -1,7 +1,7 @@
 """`python -m pdsketch_mech.demo record|show|list`: scripted demonstrations, recorded as raw
 simulation data, and pictures of recordings.
 
-    record NAME [--seed N] [--split train|test] [--variant V] [--out DIR] [--force] [--render FILE.gif] [--strip FILE.png]
+    record NAME [--seed N] [--split train|dev|test] [--variant V] [--out DIR] [--force] [--render FILE.gif] [--strip FILE.png]
         Run the scripted demonstration NAME (a task: edge, hook, lever, poking, com,
         slope-blocker) on the task's canonical instance, or with --seed on one with perturbed
         poses, recording the world at 60 Hz into DIR/NAME.npz + DIR/NAME.json (default DIR:
@@ -160,7 +160,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     rec = commands.add_parser("record", help="run and record a scripted demonstration")
     rec.add_argument("name", metavar="NAME", help="the demonstration (a task name)")
     rec.add_argument("--seed", type=whole, help="perturb the canonical instance's poses with this seed")
-    rec.add_argument("--split", default="train", choices=("train", "test"))
+    rec.add_argument("--split", default="train", choices=("train", "dev", "test"))
     rec.add_argument("--variant", choices=("distractor-push",),
                      help="record a variant of the demo (distractor-push: push an extra block aside first)")
     rec.add_argument("--out", metavar="DIR", help="folder (default domains/mechanisms/demos)")

@@ -9,13 +9,13 @@
         from what would be written is kept (exit 2, saying what differs) unless --force.
 
     selfplay NAME [--episodes N] [--seed S] [--workers K] [--out DIR] [--budget UNITS]
-                  [--time-limit S] [--fragment FILE] [--task TASK] [--split train|test]
+                  [--time-limit S] [--fragment FILE] [--task TASK] [--split train|dev|test]
         Self-play (paper Alg. 2) of mechanism NAME (domains/mechanisms/NAME.pddl) on train
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
         out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped. A
         folder of other options, or of another definition of the mechanism, is refused.
-        --split test plays test instances instead (default DIR out/selfplay-test/NAME/):
+        --split dev plays dev instances instead (default DIR out/selfplay-dev/NAME/):
         data for `evaluate`; `train` refuses a folder of them.
     train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force] [--compare N]
         Self-play as above (only the episodes not on disk yet), then train a classifier per
@@ -23,11 +23,11 @@
         checkpoint (default domains/mechanisms/NAME.samplers.safetensors), its .json
         metadata, a report (.md and .png beside it), and point the fragment's `:sampler` at
         the checkpoint. An existing checkpoint is replaced only with --force. --compare N then
-        plans N test instances with the generic and the learned samplers and adds the table and
+        plans N dev instances with the generic and the learned samplers and adds the table and
         the per-sampler breakdown (the paper's Fig. 8) to the report.
     evaluate NAME [--data DIR] [--checkpoint FILE] [--fragment FILE] [--json FILE]
         Score every proposal of the successful episodes in DIR (default
-        out/selfplay-test/NAME/) with the checkpoint's classifiers and print, per parameter
+        out/selfplay-dev/NAME/) with the checkpoint's classifiers and print, per parameter
         and for seen and held-out categories apart, how well the ranking finds the proposal
         the plan used (AUC; its position best-first against a random order's).
 
@@ -61,13 +61,13 @@ def _parser() -> ArgumentParser:
     play = commands.add_parser("selfplay", parents=[_selfplay_options()], add_help=False,
                                help="self-play data of mechanism NAME (labelled samples)")
     play.add_argument("-h", "--help", action="help", help="show this help message and exit")
-    play.add_argument("--split", choices=("train", "test"), default="train",
-                      help="the task's split the instances come from (default train; test: data for "
-                           "`evaluate`, in out/selfplay-test/NAME by default, never trained on)")
-    evaluate = commands.add_parser("evaluate", help="how well NAME's classifiers rank test-split self-play proposals")
+    play.add_argument("--split", choices=("train", "dev", "test"), default="train",
+                      help="the task's split the instances come from (default train; dev: data for "
+                           "`evaluate`, in out/selfplay-dev/NAME by default, never trained on)")
+    evaluate = commands.add_parser("evaluate", help="how well NAME's classifiers rank dev-split self-play proposals")
     evaluate.add_argument("name", metavar="NAME", help="the mechanism (domains/mechanisms/NAME.pddl)")
-    evaluate.add_argument("--data", metavar="DIR", help="self-play data (default out/selfplay-test/NAME, made by "
-                          "`selfplay NAME --split test`)")
+    evaluate.add_argument("--data", metavar="DIR", help="self-play data (default out/selfplay-dev/NAME, made by "
+                          "`selfplay NAME --split dev`)")
     evaluate.add_argument("--fragment", metavar="FILE", help="the mechanism's fragment (default "
                           "domains/mechanisms/NAME.pddl)")
     evaluate.add_argument("--checkpoint", metavar="FILE", help="the classifiers (default: the one the fragment names)")
@@ -81,7 +81,7 @@ def _parser() -> ArgumentParser:
                        ":sampler is pointed at it")
     train.add_argument("--force", action="store_true", help="replace an existing checkpoint")
     train.add_argument("--compare", type=whole, default=0, metavar="N",
-                       help="then plan N test instances with the generic and the learned samplers (120 s each) and "
+                       help="then plan N dev instances with the generic and the learned samplers (120 s each) and "
                             "add the table and the per-sampler breakdown (the paper's Fig. 8) to the report "
                             "(default 0: skip; `bench samplers NAME --report` does it later)")
     return parser
@@ -193,11 +193,11 @@ def _skipped(args, config, out: str, used: Dict[str, int]) -> int:
 
 
 def _compare(name: str, config, checkpoint: str, instances: int) -> None:
-    """Generic vs learned samplers on test instances, into the learning report (Fig. 8)."""
+    """Generic vs learned samplers on dev instances, into the learning report (Fig. 8)."""
     from .bench import samplers
     from .learning.train_command import shown
-    print(f"compare {name}: {instances} test instances, generic then learned samplers", file=sys.stderr)
-    trials = samplers.run_samplers(config.task, config.fragment, instances, "test", 0, 120.0)
+    print(f"compare {name}: {instances} dev instances, generic then learned samplers", file=sys.stderr)
+    trials = samplers.run_samplers(config.task, config.fragment, instances, "dev", 0, 120.0)
     report = checkpoint[:-len(".safetensors")] + ".md"
     command = f"python -m pdsketch_mech.bench samplers {name} --instances {instances} --timeout 120 --report"
     png = samplers.add_to_report(trials, report, name, command)

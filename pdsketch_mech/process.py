@@ -81,8 +81,8 @@ def limit_blas_threads() -> None:
     when numpy is first imported: the package's `__init__` calls this before any module
     imports numpy). A plan's matrices are small (a classifier's 16 x 384 by 384 x 128), and
     OpenBLAS's threads spin against the other plan of a two-worker benchmark and against
-    PyBullet: such a product took 0.5 ms with two threads on this machine's two busy cores,
-    0.07 ms with one, and the learned samplers' scoring of hook-test-0 took 4.4 s."""
+    PyBullet: on two busy cores such a product is several times slower with two threads than
+    with one."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 

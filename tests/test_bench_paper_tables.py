@@ -58,7 +58,7 @@ def test_every_method_plans_the_same_instances():
     for j in jobs:
         by_method.setdefault(j.method, []).append((j.instance, j.problem_text, j.seed))
     assert len(by_method) == 3 and len({tuple(v) for v in by_method.values()}) == 1
-    assert [i for i, _, _ in by_method["macro"]] == ["com-test-5", "com-test-6"]
+    assert [i for i, _, _ in by_method["macro"]] == ["com-dev-5", "com-dev-6"]
 
 
 def test_a_planner_seed_offset_plans_the_same_instances_with_other_seeds(tmp_path):
@@ -185,7 +185,7 @@ def test_table1_end_to_end_plans_replays_and_resumes(tmp_path, capsys):
     assert main(argv) == 0
     results = json.load(open(os.path.join(out, "results.json")))
     (only,) = results["trials"]
-    assert only["status"] == "solved" and only["instance"] == "com-test-0" and sum(only["simulated"].values()) > 0
+    assert only["status"] == "solved" and only["instance"] == "com-dev-0" and sum(only["simulated"].values()) > 0
     assert 0 < only["planning_s"] < only["time_s"]  # the planner's own time, start-up apart
     assert os.path.getsize(os.path.join(out, "table.png")) > 0
     assert main(argv + ["--resume"]) == 0  # nothing left to run: the same table from the store
@@ -211,3 +211,27 @@ def test_the_ray_backend_gives_the_trials_the_local_one_gives():
     (remote,) = execute(jobs, 1, "ray")
     assert local.status == remote.status == "solved"
     assert (local.simulated, local.proposals, local.steps) == (remote.simulated, remote.proposals, remote.steps)
+
+
+def test_all_mechanisms_row_plans_the_same_instances_with_every_fragment(monkeypatch, tmp_path, capsys):
+    """Table 1's fourth row: the basis domain with every committed fragment, on the instances
+    and planner seeds of the task's own mechanism; dev unless --split test, which says what
+    test is for."""
+    from pdsketch_mech.bench import paper_commands
+    seen = []
+    monkeypatch.setattr(paper_commands, "_run", lambda args, jobs, kind: seen.extend(jobs) or [])
+    monkeypatch.setattr(mechanisms, "plot", lambda *a, **k: None)
+    monkeypatch.setattr(paper_commands, "_write", lambda *a, **k: None)
+    main(["mechanisms", "--tasks", "com", "--methods", "macro+sampler,all-mechanisms", "--trials", "2",
+          "--out", str(tmp_path / "t"), "--quiet"])
+    own = [j for j in seen if j.method == "macro+sampler"]
+    every = [j for j in seen if j.method == "all-mechanisms"]
+    assert [(j.instance, j.seed, j.problem_text) for j in own] == [(j.instance, j.seed, j.problem_text) for j in every]
+    assert own[0].instance == "com-dev-0" and own[0].domain.endswith("com.pddl") and not own[0].mechanisms
+    assert every[0].domain.endswith("basis.pddl") and len(every[0].mechanisms) >= 6
+    assert "test split" not in capsys.readouterr().err
+    seen.clear()
+    main(["mechanisms", "--tasks", "com", "--methods", "macro", "--trials", "1", "--split", "test",
+          "--out", str(tmp_path / "u"), "--quiet"])
+    assert seen[0].instance == "com-test-0"
+    assert "note: the test split is for reported tables only" in capsys.readouterr().err

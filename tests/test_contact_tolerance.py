@@ -58,7 +58,7 @@ def test_a_pushed_object_must_rest_on_what_it_rested_on_and_nothing_more(lever_t
 def test_a_fact_the_goal_needs_false_is_never_tolerated():
     # Slope-and-Blocker's goal says off the table: a block set at the slope's foot, resting
     # on the slope and the table, must fail the check (goal_free_supports).
-    problem = parse_text(sample(TASKS["slope-blocker"], "test", 0).problem_text(), "slope-blocker-test-0.pddl")
+    problem = parse_text(sample(TASKS["slope-blocker"], "dev", 0).problem_text(), "slope-blocker-dev-0.pddl")
     task, _ = prepare_task(load_domain([os.path.join(ROOT, "domains", "mechanisms", "slope-blocker.pddl")]), problem)
     steps = skeleton_steps(task, [_op(task, "(slope-blocker blocker block table slope")])
     last = steps[-1]

@@ -24,7 +24,7 @@ def test_box_gap():
 
 
 def test_the_tunnel_around_a_poked_block_is_its_context_and_the_planner_sees_it_too():
-    instance = sample(TASKS["poking"], "test", 6)
+    instance = sample(TASKS["poking"], "dev", 6)
     problem = parse_text(instance.problem_text(), file="<poking>")
     grounding = ("tool", "target", "table")
     with build_world(problem) as world:

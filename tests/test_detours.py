@@ -26,7 +26,7 @@ MECHANISMS = [os.path.join(ROOT, "domains", "mechanisms", f"{m}.pddl")
 def hook_slope():
     """Hook-then-Place-on-Slope, test instance 0: a box (`target`) beyond reach, a ladle
     (`tool`), a brick."""
-    problem = parse_text(sample(TASKS["hook-slope"], "test", 0).problem_text(), "hook-slope-test-0.pddl")
+    problem = parse_text(sample(TASKS["hook-slope"], "dev", 0).problem_text(), "hook-slope-dev-0.pddl")
     task, _ = prepare_task(load_domain([BASIS] + MECHANISMS), problem)
     masks, bits = touch_masks(task)
     return task, masks, bits

@@ -35,7 +35,7 @@ def test_the_eight_tasks_are_listed():
 
 @pytest.mark.parametrize("task", ALL)
 def test_same_task_split_seed_gives_the_same_bytes(task):
-    for split in ("train", "test"):
+    for split in ("train", "dev"):
         a = sample(TASKS[task], split, 7).problem_text()
         assert a == sample(TASKS[task], split, 7).problem_text()
         assert a != sample(TASKS[task], split, 8).problem_text()
@@ -56,7 +56,7 @@ def test_splits_hold_out_instances_and_categories(task):
         obj = spec.object(HELD_OUT_CATEGORY[task])
         assert _categories(obj.assets.test) - _categories(obj.assets.train), f"{task}: no held-out category"
     # Sampled instances use only their split's assets.
-    for split in ("train", "test"):
+    for split in ("train", "dev"):
         for seed in range(20):
             inst = sample(spec, split, seed)
             for placed in inst.objects:
@@ -87,7 +87,7 @@ def test_noise_stays_within_the_declared_ranges(task):
 def test_generated_problems_parse_type_check_and_do_not_overlap(task):
     domain = load_domain([f"{ROOT}/domains/basis.pddl"])
     from pdsketch_mech.lang.typecheck import check_problem
-    for split, seed in (("train", None), ("train", 1), ("test", 2)):
+    for split, seed in (("train", None), ("train", 1), ("dev", 2)):
         inst = sample(TASKS[task], split, seed)
         problem = parse_text(inst.problem_text())
         assert isinstance(problem, Problem)
@@ -112,16 +112,16 @@ def test_generation_reads_the_asset_index_not_meshes_or_physics():
     code = ("from pdsketch_mech.envs import TASKS, sample\n"
             f"for task in {ALL!r}:\n"
             "    for seed in range(10):\n"
-            "        sample(TASKS[task], 'test', seed).problem_text()\n")
+            "        sample(TASKS[task], 'dev', seed).problem_text()\n")
     _, imported = imports_of(["-c", code])
     assert not HEAVY & imported
 
 
 def test_cli_writes_a_file_and_rejects_bad_requests(tmp_path, capsys):
     out = tmp_path / "p.pddl"
-    assert envs_main(["hook", "--seed", "3", "--split", "test", "--out", str(out)]) == 0
-    assert out.read_text() == sample(TASKS["hook"], "test", 3).problem_text()
-    assert "python -m pdsketch_mech.envs hook --split test --seed 3" in out.read_text()
+    assert envs_main(["hook", "--seed", "3", "--split", "dev", "--out", str(out)]) == 0
+    assert out.read_text() == sample(TASKS["hook"], "dev", 3).problem_text()
+    assert "python -m pdsketch_mech.envs hook --split dev --seed 3" in out.read_text()
     assert envs_main(["--list"]) == 0
     assert "slope-blocker" in capsys.readouterr().out
     assert envs_main(["hok", "--seed", "1"]) == 2
@@ -139,11 +139,11 @@ def test_cli_refuses_to_replace_a_file_without_force(tmp_path, capsys):
     """--out never replaces what the user had (a trained fragment, say) unless --force."""
     out = tmp_path / "my-com.pddl"
     out.write_text("(define (domain my-com))\n")
-    assert envs_main(["com", "--seed", "7", "--split", "test", "--out", str(out)]) == 2
+    assert envs_main(["com", "--seed", "7", "--split", "dev", "--out", str(out)]) == 2
     assert out.read_text() == "(define (domain my-com))\n"
     assert capsys.readouterr().err.splitlines() == [f"error: {out} exists (use --force to replace it)"]
-    assert envs_main(["com", "--seed", "7", "--split", "test", "--out", str(out), "--force"]) == 0
-    assert out.read_text() == sample(TASKS["com"], "test", 7).problem_text()
+    assert envs_main(["com", "--seed", "7", "--split", "dev", "--out", str(out), "--force"]) == 0
+    assert out.read_text() == sample(TASKS["com"], "dev", 7).problem_text()
     assert envs_main(["com", "--seed", "7", "--out", str(tmp_path), "--force"]) == 2
     assert capsys.readouterr().err.splitlines()[-1] == f"error: --out {tmp_path}: is a folder"
 
@@ -152,7 +152,7 @@ def test_cli_process_is_light_and_deterministic(tmp_path):
     """Writing a problem loads neither the simulator nor torch (it takes ~0.2 s: Python, numpy
     and the manifest), and the same seed gives the same bytes. Checked from the imports, not
     the clock, so a loaded machine cannot fail it."""
-    args = ["-m", "pdsketch_mech.envs", "poking", "--seed", "11", "--split", "test"]
+    args = ["-m", "pdsketch_mech.envs", "poking", "--seed", "11", "--split", "dev"]
     first, imported = imports_of(args)
     second, _ = imports_of(args)
     assert first == second and first.startswith("; Poking")
@@ -185,12 +185,12 @@ def _settle_check(task, split, seeds):
 
 @pytest.mark.parametrize("task", ALL)
 def test_scenes_settle_in_place(task):
-    assert _settle_check(task, "train", [None, 0, 1, 2, 3]) + _settle_check(task, "test", [0, 1, 2, 3]) == []
+    assert _settle_check(task, "train", [None, 0, 1, 2, 3]) + _settle_check(task, "dev", [0, 1, 2, 3]) == []
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("task", ALL)
-@pytest.mark.parametrize("split", ["train", "test"])
+@pytest.mark.parametrize("split", ["train", "dev"])
 def test_fifty_scenes_settle_in_place(task, split):
     assert _settle_check(task, split, range(50)) == []
 
@@ -199,7 +199,7 @@ def test_check_command_accepts_generated_problems(tmp_path):
     paths = []
     for task in ALL:
         path = tmp_path / f"{task}.pddl"
-        path.write_text(sample(TASKS[task], "test", 5).problem_text())
+        path.write_text(sample(TASKS[task], "dev", 5).problem_text())
         paths.append(str(path))
     result = subprocess.run([sys.executable, "-m", "pdsketch_mech.check", f"{ROOT}/domains/basis.pddl", *paths],
                             capture_output=True, text=True, cwd=ROOT)
@@ -221,7 +221,7 @@ def test_the_target_cannot_be_grasped_at_the_start(task):
     from pdsketch_mech.world.build import build_world
 
     obj = NEEDS_A_MECHANISM[task]
-    for split, seed in (("train", None), ("train", 3), ("test", 4)):
+    for split, seed in (("train", None), ("train", 3), ("dev", 4)):
         inst = sample(TASKS[task], split, seed)
         with build_world(parse_text(inst.problem_text())) as world:
             world.settle()
@@ -314,3 +314,22 @@ def test_edge_objects_start_14_cm_or_more_from_every_table_edge():
         margins = (corners[:, 0].min() - 0.2, 1.0 - corners[:, 0].max(), corners[:, 1].min() + 0.5,
                    0.5 - corners[:, 1].max())
         assert min(margins) >= 0.14, f"{asset}: {min(margins) * 100:.1f} cm from an edge"
+
+
+@pytest.mark.parametrize("task", ALL)
+def test_dev_and_test_share_assets_but_no_instance(task):
+    """Dev is for tuning and test for reporting: the same held-out assets, never the same
+    scene, so a run on dev says nothing about which test instances will come."""
+    spec = TASKS[task]
+    dev = {_scene(sample(spec, "dev", seed)) for seed in range(30)}
+    test = {_scene(sample(spec, "test", seed)) for seed in range(30)}
+    assert not dev & test
+    for placed in sample(spec, "test", 0).objects:
+        if placed.role != "distractor":
+            assert placed.asset in spec.object(placed.name).assets.test
+    assert sample(spec, "test", 4).name == f"{task}-test-4" and sample(spec, "dev", 4).name == f"{task}-dev-4"
+
+
+def _scene(instance):
+    """An instance's scene, without its name."""
+    return tuple((o.name, o.asset, o.position, o.yaw, o.scale) for o in instance.objects)

@@ -145,9 +145,9 @@ def com_copy(folder, edit=lambda text: text):
     checkpoint, and a Center-of-Mass problem; returns (fragment, problem, weights file)."""
     with open(COM) as handle:
         text = handle.read().replace('"../basis.pddl"', f'"{BASIS}"')
-    fragment, problem = folder / "my-com.pddl", folder / "com-test-0.pddl"
+    fragment, problem = folder / "my-com.pddl", folder / "com-dev-0.pddl"
     fragment.write_text(edit(text))
-    problem.write_text(sample(TASKS["com"], "test", 0).problem_text())
+    problem.write_text(sample(TASKS["com"], "dev", 0).problem_text())
     for suffix in (".samplers.safetensors", ".samplers.json"):
         shutil.copy(os.path.join(ROOT, "domains", "mechanisms", "com" + suffix), folder)
     return str(fragment), str(problem), str(folder / "com.samplers.safetensors")

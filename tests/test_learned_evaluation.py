@@ -1,6 +1,6 @@
 """`learn evaluate` (learning/evaluate.py): classifiers scored on self-play episodes they were
 not trained on -- ranking figures per parameter, seen and held-out categories apart -- and
-`learn selfplay --split test`, whose data it reads and `train` refuses."""
+`learn selfplay --split dev`, whose data it reads and `train` refuses."""
 from __future__ import annotations
 
 import json
@@ -49,7 +49,7 @@ def test_a_classifier_that_ranks_backwards_scores_below_random(trained):
 
 def test_evaluate_cli_says_what_to_run_when_there_is_no_test_data(tmp_path, capsys):
     assert learn.main(["evaluate", "com", "--data", str(tmp_path / "none")]) == 2
-    assert learn.main(["evaluate", "com"]) in (0, 2)            # out/selfplay-test/com may exist on a dev machine
+    assert learn.main(["evaluate", "com"]) in (0, 2)            # out/selfplay-dev/com may exist on a dev machine
     err = capsys.readouterr().err.strip().splitlines()
     assert err[0] == f"error: {tmp_path / 'none'}: no such folder"
 
@@ -61,25 +61,25 @@ def test_a_fragment_without_the_mechanism_is_named_in_the_error(capsys):
     assert err == [f"error: no mechanism named com in {fragment} (it has: hook-use)"]
 
 
-def test_selfplay_on_the_test_split_then_evaluate_and_train_refuses_that_folder(tmp_path, capsys):
+def test_selfplay_on_the_dev_split_then_evaluate_and_train_refuses_that_folder(tmp_path, capsys):
     data = str(tmp_path / "test-data")
-    assert learn.main(["selfplay", "com", "--split", "test", "--episodes", "2", "--budget", "40", "--out", data]) == 0
+    assert learn.main(["selfplay", "com", "--split", "dev", "--episodes", "2", "--budget", "40", "--out", data]) == 0
     with open(f"{data}/manifest.json") as handle:
-        assert json.load(handle)["config"]["split"] == "test"
+        assert json.load(handle)["config"]["split"] == "dev"
     status = learn.main(["evaluate", "com", "--data", data, "--json", str(tmp_path / "e.json")])
     out = capsys.readouterr()
     assert status in (0, 1) and "| parameter |" in out.out and "evaluate com:" in out.err
     refused = learn.main(["train", "com", "--episodes", "2", "--out", data, "--checkpoint",
                           str(tmp_path / "c.samplers.safetensors")])
     err = capsys.readouterr().err.strip().splitlines()
-    assert refused == 2 and err[-1].startswith("error: ") and "split 'test' (this run: 'train')" in err[-1]
+    assert refused == 2 and err[-1].startswith("error: ") and "split 'dev' (this run: 'train')" in err[-1]
 
 
 def test_evaluate_refuses_data_recorded_with_another_context_count(tmp_path, capsys):
     """The committed Center-of-Mass checkpoint sees the mechanism's objects only; episodes
     that also recorded the nearest body have one object more than its classifiers read."""
     data = str(tmp_path / "wider")
-    assert learn.main(["selfplay", "com", "--split", "test", "--episodes", "1", "--budget", "40", "--context", "1",
+    assert learn.main(["selfplay", "com", "--split", "dev", "--episodes", "1", "--budget", "40", "--context", "1",
                        "--out", data]) == 0
     capsys.readouterr()
     assert learn.main(["evaluate", "com", "--data", data]) == 2
@@ -90,7 +90,7 @@ def test_evaluate_refuses_data_recorded_with_another_context_count(tmp_path, cap
 
 def test_evaluate_refuses_data_played_with_another_definition_of_the_mechanism(tmp_path, capsys):
     data = str(tmp_path / "old")
-    assert learn.main(["selfplay", "com", "--split", "test", "--episodes", "1", "--budget", "40", "--out", data]) == 0
+    assert learn.main(["selfplay", "com", "--split", "dev", "--episodes", "1", "--budget", "40", "--out", data]) == 0
     capsys.readouterr()
     with open(f"{data}/manifest.json") as handle:
         manifest = json.load(handle)

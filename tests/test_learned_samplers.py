@@ -530,7 +530,7 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     from pdsketch_mech.envs.generate import sample
     from pdsketch_mech.envs.tasks import TASKS
     with open(problem, "w", encoding="utf-8") as handle:
-        handle.write(sample(TASKS["com"], "test", 5).problem_text())
+        handle.write(sample(TASKS["com"], "dev", 5).problem_text())
     capsys.readouterr()
     result = str(tmp_path / "plan.json")
     assert plan.main([com_fragment, problem, "--timeout", "120", "--json", result]) == 0
@@ -591,11 +591,11 @@ def test_bench_samplers_plans_each_instance_with_its_own_seed(monkeypatch):
         jobs.append(job)
         return Trial(job.task, job.method, job.index, job.instance, job.seed, "solved", 1.0)
     monkeypatch.setattr(samplers, "run_job", run_job)
-    trials = samplers.run_samplers("com", "domains/mechanisms/com.pddl", 3, "test", 5, 10.0, progress=False, runs=2)
+    trials = samplers.run_samplers("com", "domains/mechanisms/com.pddl", 3, "dev", 5, 10.0, progress=False, runs=2)
     assert sorted((job.index, job.method, job.seed) for job in jobs) == sorted(
         (k, method, 5 + k + 1000 * j) for k in range(3) for j in range(2) for method in samplers.METHODS)
     assert len({job.instance for job in jobs}) == 6          # each run keeps its own files
-    assert {t.instance for t in trials} == {"com-test-5", "com-test-6", "com-test-7"}
+    assert {t.instance for t in trials} == {"com-dev-5", "com-dev-6", "com-dev-7"}
     assert len({t.run for t in trials}) == 6
 
 
@@ -703,7 +703,7 @@ def test_scoring_time_leaves_out_embedding_a_new_shape(monkeypatch, tmp_path):
     learned = load_learned([mechanism])["com"]
     embed = NumpyClassifier.shape_vector
     monkeypatch.setattr(NumpyClassifier, "shape_vector", lambda self, cloud: time.sleep(0.2) or embed(self, cloud))
-    problem = parse_text(sample(TASKS["com"], "test", 1).problem_text(), file="<com>")
+    problem = parse_text(sample(TASKS["com"], "dev", 1).problem_text(), file="<com>")
     with build_world(problem, visual=False) as world:
         settle_start(world)
         request = SampleRequest("s", (), (), StepContext("grasp", (), "com", ("flat", "table", "pedestal")))

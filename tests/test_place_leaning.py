@@ -17,7 +17,7 @@ DOMAINS = [os.path.join(ROOT, "domains", "basis.pddl")] + sorted(glob.glob(os.pa
 
 
 def test_a_box_that_leans_on_the_retreating_hand_is_not_placed(capsys):
-    status = replay.main([os.path.join(DATA, "hook-slope-test-0.pddl"),
+    status = replay.main([os.path.join(DATA, "hook-slope-dev-0.pddl"),
                           os.path.join(DATA, "box-on-slope-held-by-the-hand.json"), *DOMAINS])
     assert status == 1
     assert "step 5 (place) failed: target leans on the hand once let go" in capsys.readouterr().err

@@ -52,7 +52,7 @@ def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasi
 @pytest.fixture(scope="module")
 def hook_slope():
     """Hook-then-Place-on-Slope, test instance 0: a box beyond reach, a ladle, a brick."""
-    problem = parse_text(sample(TASKS["hook-slope"], "test", 0).problem_text(), "hook-slope-test-0.pddl")
+    problem = parse_text(sample(TASKS["hook-slope"], "dev", 0).problem_text(), "hook-slope-dev-0.pddl")
     loaded = load_domain([BASIS] + MECHANISMS)
     return loaded, problem
 

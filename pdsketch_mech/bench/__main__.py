@@ -185,8 +185,7 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     if task is None:
         raise ipc.BenchError(f"{args.name}: no task distribution of that name or of its demonstration; give --task")
     report = samplers.report_of(fragment, args.name) if args.report else None
-    if report and args.split != "test":
-        raise ipc.BenchError("--report: the learning report compares on the test split (drop --split)")
+    paper_commands.warn_if_test(args.split)
     keep = _keep_folder(args.keep)
     trials = samplers.run_samplers(task, fragment, args.instances, args.split, args.seed, args.timeout, keep,
                                    workers=args.workers, runs=args.runs)
@@ -205,8 +204,10 @@ def run_samplers_command(args: argparse.Namespace) -> int:
             options.append(f"--seed {args.seed}")
         if args.workers > 1:
             options.append(f"--workers {args.workers}")
+        if args.split != "dev":
+            options.append(f"--split {args.split}")
         command = " ".join([f"python -m pdsketch_mech.bench samplers {args.name}"] + options + ["--report"])
-        png = samplers.add_to_report(trials, report, args.name, command, checkout_commit(), fewest)
+        png = samplers.add_to_report(trials, report, args.name, command, checkout_commit(), fewest, args.split)
         print(f"added the comparison to {report} ({png})")
     _write_document(args.json, {"mechanism": args.name, "task": task, "fragment": fragment, "split": args.split,
                                 "instances": args.instances, "runs": args.runs, "seed": args.seed,
@@ -282,10 +283,11 @@ def build_parser() -> argparse.ArgumentParser:
     reach.add_argument("--json", metavar="FILE", help="write every run and the figures as JSON")
     reach.set_defaults(func=run_reach_command)
     learned = commands.add_parser("samplers", help="a mechanism's learned samplers vs its generic ones (Macro+Sampler "
-                                                   "vs Macro) on test instances")
+                                                   "vs Macro) on dev (or test) instances")
     learned.add_argument("name", metavar="NAME", help="the mechanism (domains/mechanisms/NAME.pddl)")
     learned.add_argument("--instances", type=count, default=10, metavar="N", help="instances (default 10)")
-    learned.add_argument("--split", choices=("train", "test"), default="test", help="(default test)")
+    learned.add_argument("--split", choices=("train", "dev", "test"), default="dev",
+                         help="dev: for tuning (default); test: for a reported figure only (docs/evaluation.md)")
     learned.add_argument("--seed", type=seed, default=0, metavar="S", help="instance seeds S..S+N-1 (default 0)")
     learned.add_argument("--runs", type=count, default=1, metavar="K",
                          help="plans per instance and method, with planner seeds S+k, S+k+1000, ... (default 1)")

@@ -15,12 +15,13 @@ from collections import Counter
 from dataclasses import asdict
 from typing import List, Sequence
 
+from ..envs.spec import SPLITS
 from ..cli import EXIT_OK, EXIT_UNSOLVED, count, progress_bar, seconds, seed, write_json, write_text
 from . import compose, mechanisms
 from .ipc import BenchError
 from .plans import check_domain
 from .tables import render_markdown, render_text
-from .trials import METHODS, Job, Trial, TrialsError, TRIALS_FILE, TrialStore, run_all
+from .trials import ALL_MECHANISMS, METHODS, PAPER_METHODS, Job, Trial, TrialsError, TRIALS_FILE, TrialStore, run_all
 
 MECHANISMS_DIR = os.path.join("domains", "mechanisms")
 BASIS = os.path.join("domains", "basis.pddl")
@@ -34,11 +35,14 @@ def _names(text: str, allowed: Sequence[str], what: str) -> List[str]:
     return list(dict.fromkeys(names))
 
 
-def _add_common(parser: argparse.ArgumentParser, tasks: Sequence[str], default_out: str) -> None:
+def _add_common(parser: argparse.ArgumentParser, tasks: Sequence[str], default_out: str,
+                methods: Sequence[str]) -> None:
     parser.add_argument("--tasks", default=",".join(tasks), metavar="T,...", help=f"(default {','.join(tasks)})")
-    parser.add_argument("--methods", default=",".join(METHODS), metavar="M,...", help=f"(default {','.join(METHODS)})")
+    parser.add_argument("--methods", default=",".join(methods), metavar="M,...", help=f"(default {','.join(methods)})")
+    parser.add_argument("--split", choices=SPLITS[1:], default="dev",
+                        help="dev: for tuning (default); test: for a reported table only (docs/evaluation.md)")
     parser.add_argument("--trials", type=count, default=10, metavar="N",
-                        help="test-split instances per task, seeds S..S+N-1, the same for every method (default 10)")
+                        help="instances per task, seeds S..S+N-1, the same for every method (default 10)")
     parser.add_argument("--seed", type=seed, default=0, metavar="S", help="first instance and planner seed (default 0)")
     parser.add_argument("--planner-seed-offset", type=seed, default=0, metavar="K",
                         help="plan instance S+i with planner seed S+i+K (default 0): the same instances with "
@@ -62,10 +66,10 @@ def _add_common(parser: argparse.ArgumentParser, tasks: Sequence[str], default_o
 def add_parsers(commands) -> None:
     table1 = commands.add_parser("mechanisms", help="the paper's Table 1: each mechanism's task by basis operators, "
                                                     "Macro and Macro+Sampler")
-    _add_common(table1, [c.task for c in mechanisms.TABLE1], os.path.join("out", "bench", "mechanisms"))
+    _add_common(table1, [c.task for c in mechanisms.TABLE1], os.path.join("out", "bench", "mechanisms"), METHODS)
     table1.set_defaults(func=run_mechanisms_command)
     table2 = commands.add_parser("compose", help="the paper's Table 2: the compositional tasks, every mechanism loaded")
-    _add_common(table2, [c.task for c in compose.TABLE2], os.path.join("out", "bench", "compose"))
+    _add_common(table2, [c.task for c in compose.TABLE2], os.path.join("out", "bench", "compose"), PAPER_METHODS)
     table2.set_defaults(func=run_compose_command)
 
 
@@ -77,7 +81,7 @@ def _check(args: argparse.Namespace, fragments: Sequence[str]) -> None:
 
 
 def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
-    config = {"kind": kind, "seed": args.seed, "planner_seed_offset": args.planner_seed_offset,
+    config = {"kind": kind, "split": args.split, "seed": args.seed, "planner_seed_offset": args.planner_seed_offset,
               "timeout_s": args.timeout, "mechanisms_dir": args.mechanisms_dir}
     if args.table_only and not os.path.exists(os.path.join(args.out, TRIALS_FILE)):
         raise BenchError(f"--table-only: {args.out} holds no trials")
@@ -109,6 +113,13 @@ def _write(args: argparse.Namespace, trials: Sequence[Trial], header, rows, line
                 "lines": lines, "command": " ".join(["python -m pdsketch_mech.bench"] + sys.argv[1:])})
 
 
+def warn_if_test(split: str) -> None:
+    """The one-line reminder a run on the test split prints."""
+    if split == "test":
+        print("note: the test split is for reported tables only: one run, at one commit, never to tune on "
+              "(docs/evaluation.md)", file=sys.stderr)
+
+
 def commits_line(trials: Sequence[Trial]) -> str:
     """Which checkouts planned the trials (a run resumed across commits says so)."""
     counts = Counter(t.commit or "unknown" for t in trials)
@@ -118,38 +129,51 @@ def commits_line(trials: Sequence[Trial]) -> str:
 
 
 def run_mechanisms_command(args: argparse.Namespace) -> int:
+    warn_if_test(args.split)
     tasks = _names(args.tasks, list(mechanisms.BY_TASK), "tasks")
     methods = _names(args.methods, METHODS, "methods")
     columns = [mechanisms.BY_TASK[t] for t in tasks]
     fragments = {c.task: mechanisms.fragment_of(c, args.mechanisms_dir) for c in columns}
     _check(args, list(fragments.values()))
-    jobs = [job for c in columns for job in mechanisms.instance_jobs(c.task, methods, args.trials, args.seed,
-                                                                     args.timeout, fragments[c.task],
-                                                                     planner_seed_offset=args.planner_seed_offset)]
+    every = tuple(sorted(glob.glob(os.path.join(args.mechanisms_dir, "*.pddl")))) if ALL_MECHANISMS in methods else ()
+    if ALL_MECHANISMS in methods:
+        if not every:
+            raise BenchError(f"--mechanisms-dir {args.mechanisms_dir}: no .pddl fragments there")
+        _check(args, every)
+    jobs = []
+    for c in columns:   # the same instances and planner seeds for every method
+        own = [m for m in methods if m != ALL_MECHANISMS]
+        common = dict(planner_seed_offset=args.planner_seed_offset, split=args.split)
+        jobs += mechanisms.instance_jobs(c.task, own, args.trials, args.seed, args.timeout, fragments[c.task], **common)
+        if ALL_MECHANISMS in methods:
+            jobs += mechanisms.instance_jobs(c.task, [ALL_MECHANISMS], args.trials, args.seed, args.timeout, BASIS,
+                                             every, **common)
     trials = _run(args, jobs, "mechanisms")
     header, rows, lines = mechanisms.table(trials, columns, methods, args.timeout)
     png = os.path.join(args.out, "table.png")
     mechanisms.plot(trials, columns, methods, args.timeout, png,
-                    f"Table 1: {args.trials} test instances per task, {args.timeout:g} s limit; hatched: the paper's")
+                    f"Table 1: {args.trials} {args.split} instances per task, {args.timeout:g} s limit; hatched: the paper's")
     _write(args, trials, header, rows, lines, {"tasks": tasks, "methods": methods, "trials_per_task": args.trials})
     print(f"wrote {args.out}/table.md, table.png, results.json", file=sys.stderr)
     return EXIT_UNSOLVED if any(t.status == "invalid" for t in trials) else EXIT_OK
 
 
 def run_compose_command(args: argparse.Namespace) -> int:
+    warn_if_test(args.split)
     tasks = _names(args.tasks, list(compose.BY_TASK), "tasks")
-    methods = _names(args.methods, METHODS, "methods")
+    methods = _names(args.methods, PAPER_METHODS, "methods")
     fragments = tuple(sorted(glob.glob(os.path.join(args.mechanisms_dir, "*.pddl"))))
     if not fragments:
         raise BenchError(f"--mechanisms-dir {args.mechanisms_dir}: no .pddl fragments there")
     _check(args, (BASIS,) + fragments)
     jobs = [job for t in tasks for job in mechanisms.instance_jobs(t, methods, args.trials, args.seed, args.timeout,
-                                                                   BASIS, fragments, args.planner_seed_offset)]
+                                                                   BASIS, fragments, args.planner_seed_offset,
+                                                                   split=args.split)]
     trials = _run(args, jobs, "compose")
     columns = [compose.BY_TASK[t] for t in tasks]
     header, rows, lines = compose.table(trials, columns, methods)
     compose.plot(trials, columns, methods, args.timeout, os.path.join(args.out, "table.png"),
-                 f"Table 2: {args.trials} test instances per task, {args.timeout:g} s limit, all mechanisms loaded")
+                 f"Table 2: {args.trials} {args.split} instances per task, {args.timeout:g} s limit, all mechanisms loaded")
     _write(args, trials, header, rows, lines, {"tasks": tasks, "methods": methods, "trials_per_task": args.trials,
                                                 "mechanisms": list(fragments)})
     print(f"wrote {args.out}/table.md, table.png, results.json", file=sys.stderr)

@@ -1,5 +1,5 @@
 """`bench samplers NAME`: a mechanism's learned samplers against its generic ones (the
-paper's Macro+Sampler vs Macro) on instances of its task's test split.
+paper's Macro+Sampler vs Macro) on instances of one of its task's splits (dev unless asked).
 
 Each instance is planned twice with the mechanism's fragment, each in its own process and
 with the instance's seed as the planner's:
@@ -210,11 +210,11 @@ def report_of(fragment: str, name: str) -> str:
     return report
 
 
-REPORT_HEADING = "## Generic vs learned samplers on test instances (the paper's Fig. 8)"
+REPORT_HEADING = "## Generic vs learned samplers (the paper's Fig. 8)"
 
 
 def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str, commit: str = "",
-                  fewest: Optional[int] = None) -> str:
+                  fewest: Optional[int] = None, split: str = "dev") -> str:
     """Put the comparison into a mechanism's learning report (NAME.samplers.md): the table,
     and the per-sampler breakdown drawn beside it (NAME.samplers-fig8.png), with the command
     and the commit (`checkout_commit`; "" when unknown) that made them. A section written
@@ -224,7 +224,7 @@ def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str,
     png = report[:-len(".md")] + "-fig8.png"
     instances, runs = len({t.instance for t in trials}), len({t.run for t in trials})
     plot(trials, png, f"mechanism {name}: samples per sampler, generic vs learned "
-                      f"({instances} test instances, {runs} runs)")
+                      f"({instances} {split} instances, {runs} runs)")
     header, cells, lines = table(trials, fewest)
     with open(report, encoding="utf-8") as handle:
         text = handle.read()

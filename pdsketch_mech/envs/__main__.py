@@ -1,4 +1,4 @@
-"""`python -m pdsketch_mech.envs TASK --seed N [--split train|test] [--out FILE [--force]]`: a
+"""`python -m pdsketch_mech.envs TASK --seed N [--split train|dev|test] [--out FILE [--force]]`: a
 problem file drawn from a task distribution (`--canonical`: the canonical instance; `--list`:
 the tasks).
 
@@ -15,12 +15,14 @@ from ..cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, output_error, run, wh
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
+    from .spec import SPLITS
     from .tasks import TASKS
 
     parser = ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
     parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}")
     parser.add_argument("--seed", type=whole, help="which instance (a whole number >= 0)")
-    parser.add_argument("--split", default="train", choices=("train", "test"), help="asset split (default train)")
+    parser.add_argument("--split", default="train", choices=SPLITS,
+                        help="train: self-play; dev: tuning; test: reported tables only (default train)")
     parser.add_argument("--canonical", action="store_true",
                         help="the canonical instance: first train assets at their canonical poses")
     parser.add_argument("--canonical-assets", action="store_true",

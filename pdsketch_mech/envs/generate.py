@@ -1,8 +1,9 @@
 """The one generator: a `TaskSpec`, a split and a seed -> an instance -> a problem file.
 
-`sample(task, split, seed)` draws every choice from `numpy.random.default_rng(seed)` in a
-fixed order, so the same (task, split, seed) always gives the same instance and the same
-bytes (`problem_text`). Without a seed it gives the canonical instance: the first train
+`sample(task, split, seed)` draws every choice from one random generator in a fixed order,
+so the same (task, split, seed) always gives the same instance and the same bytes
+(`problem_text`). The train and dev splits seed it with `seed`, the test split with (seed,
+TEST_STREAM): dev and test share their assets but no instance. Without a seed it gives the canonical instance: the first train
 asset of every object at its canonical pose, unscaled, without distractors. With
 `vary_assets=False` it keeps the canonical assets and perturbs only the poses (what the
 scripted demonstrations are checked on).
@@ -16,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -27,6 +28,7 @@ GAP = 0.001          # metres between an object's lowest point and its support's
 CLEARANCE = 0.01     # metres between the footprints of objects on the same level
 MAX_TRIES = 200      # redraws of a whole instance before giving up
 DISTRACTOR_TRIES = 60
+TEST_STREAM = 2026   # keeps test instances apart from dev ones, which have the same assets
 
 
 @dataclass(frozen=True)
@@ -235,9 +237,14 @@ def _choose(spec: ObjectSpec, split: str, rng: Optional[np.random.Generator], va
     return choices[index], index
 
 
+def instance_entropy(split: str, seed: int) -> Union[int, Tuple[int, int]]:
+    """What seeds the generator of instance `seed` of `split` (module docstring)."""
+    return (seed, TEST_STREAM) if split == "test" else seed
+
+
 def sample(task: TaskSpec, split: str = "train", seed: Optional[int] = None, vary_assets: bool = True) -> Instance:
     """An instance of `task` (module docstring)."""
-    rng = None if seed is None else np.random.default_rng(seed)
+    rng = None if seed is None else np.random.default_rng(instance_entropy(split, seed))
     for _ in range(MAX_TRIES):
         placed: Dict[str, Placed] = {}
         chosen: Dict[str, int] = {}

@@ -1,7 +1,7 @@
 """Task distributions, declared: which objects, which assets per split, where they go.
 
 A task (`TaskSpec`) is a handful of `ObjectSpec`s — furniture and objects, each with its
-asset choices for the train and test splits, a canonical pose, how much it is perturbed
+asset choices for the train and held-out splits, a canonical pose, how much it is perturbed
 (the paper: +-5 cm and +-15 degrees about the canonical pose), a scale range, physical
 overrides — plus optional distractors and the goal. One generic generator (`generate.py`)
 turns a spec, a split and a seed into an ordinary problem file.
@@ -18,17 +18,23 @@ from typing import Optional, Tuple
 
 Range = Tuple[float, float]
 
+# What each split is for: train feeds self-play, dev every tuning run, test the reported
+# tables only. Dev and test share the held-out assets (too few variants for three sets) but
+# never an instance: their seeds draw from different random streams (generate.py).
+SPLITS = ("train", "dev", "test")
+
 
 @dataclass(frozen=True)
 class Assets:
-    """Asset choices (`"category/variant"`) per split; the canonical instance uses `train[0]`."""
+    """Asset choices (`"category/variant"`): `train` for self-play, `test` (held out) for the
+    dev and test splits; the canonical instance uses `train[0]`."""
 
     train: Tuple[str, ...]
     test: Tuple[str, ...]
 
     def of(self, split: str) -> Tuple[str, ...]:
-        if split not in ("train", "test"):
-            raise ValueError(f"unknown split {split!r}: expected 'train' or 'test'")
+        if split not in SPLITS:
+            raise ValueError(f"unknown split {split!r}: expected one of {', '.join(SPLITS)}")
         return self.train if split == "train" else self.test
 
     @property

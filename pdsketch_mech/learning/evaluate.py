@@ -1,6 +1,6 @@
 """How well a checkpoint's classifiers rank proposals of self-play episodes they never saw.
 
-`learn selfplay NAME --split test` plays the task's test split (held-out objects and
+`learn selfplay NAME --split dev` plays the task's dev split (held-out objects and
 categories included) with the generic samplers; `learn evaluate NAME` then scores, for every
 successful episode and every parameter with a classifier, each proposal the generic sampler
 drew as planning would (the calibrated log P(verifies and is used)) and compares the ranking

@@ -24,9 +24,9 @@ def evaluate_command(args) -> int:
     if isinstance(found, int):
         return found
     fragment, mechanism = found
-    data = args.data or os.path.join("out", "selfplay-test", args.name)
+    data = args.data or os.path.join("out", "selfplay-dev", args.name)
     if not os.path.isdir(data):
-        hint = "" if args.data else f" (make it with `python -m pdsketch_mech.learn selfplay {args.name} --split test`)"
+        hint = "" if args.data else f" (make it with `python -m pdsketch_mech.learn selfplay {args.name} --split dev`)"
         return fail(f"{data}: no such folder{hint}")
     if args.json:
         error = output_error(args.json, "--json", (fragment,), (".json",))

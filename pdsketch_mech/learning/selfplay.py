@@ -1,6 +1,6 @@
 """Self-play (paper Alg. 2): one episode of a mechanism on one instance of its task.
 
-An episode draws a train-split instance of the task (a test-split one for evaluation data;
+An episode draws a train-split instance of the task (a dev-split one for evaluation data;
 distractors included), grounds the mechanism on a random choice of the objects present
 whose precondition holds symbolically (the learner is not told which object plays which
 role), fixes the skeleton to the mechanism's steps and runs the continuous search with the
@@ -63,7 +63,7 @@ class SelfPlayConfig:
     seed: int = 0           # the base seed: episode i uses seeds derived from (seed, i)
     budget: int = 400       # work units per episode (samples drawn and simulated, samplers running dry)
     time_limit: float = 300.0  # seconds per episode, a safety net (hitting it is recorded)
-    split: str = "train"    # "test": data to evaluate classifiers on (`learn evaluate`), never to train
+    split: str = "train"    # "dev": data to evaluate classifiers on (`learn evaluate`), never to train
     grounding: str = "goal"  # which groundings an episode draws from: "goal" or "any" (see above)
     context: int = 0        # nearest other bodies recorded with the mechanism's objects (learned/context.py)
 

@@ -15,11 +15,8 @@ no more proposals than that first call found, as the generic draw would: the ref
 choice, they do not make a visit that cannot succeed cost more.
 
 A batch is small on purpose. The best of many proposals by a classifier's score is the one
-it overrates most (the optimizer's curse), all the more on a shape it never saw: on
-Slope-and-Blocker the best of 64 placements slid off the slope where a random one held.
-Measured (learned runs, 10 test instances, one run each with planner seed 0, median values
-simulated): Slope-and-Blocker 139 with batches of 64, 39 with 16 (generic: 136); Hook 329
-with 64, 252 with 16, 392 with 8 (generic: 479).
+it overrates most (the optimizer's curse), all the more on a shape it never saw
+(results/HISTORY.md has the batch sizes tried).
 
 How often the walk explores is not fixed: each pick's outcome (its proposal verified, its
 step simulated as the skeleton expects and the mechanism's next step after it, or not) is
@@ -34,20 +31,11 @@ inputs), the step draws from the generic sampler as it is. A fixed object's plac
 only with the task distribution's layout noise, so a classifier cannot have learnt how
 values relate to it anywhere else; a movable object was seen wherever the mechanism's steps
 and the task's starts put it, and other shapes and sizes where training had its objects are
-what the held-out test objects are (there the classifiers help, README). A mechanism learnt
-on its own task distribution meets other layouts in a composition: on
-Hook-then-Place-on-Slope the slope stands 55 cm from where Slope-and-Blocker's self-play
-always had it (17 standard deviations), and the ladle placements the classifier ranked first
-lay on the slope's upper half, where they block nothing (hook-slope-test-5, from its plan's
-state before the ladle is laid down: of 20 placements each followed by the box's grasp and
-up to three placements of the box, 1 held the box with the classifier's order, 6 with the
-generic one). Measured at every scored batch (largest |z| of a grounding's objects, fixed or
-not): at most 4.9 on the six tasks' 60 test instances. A limit on every object, movable ones
-too, was tried and dropped: the compositions' movable objects reach 9-13 (a box out of
-reach, for Poking's classifiers) where the ranking still helped (push-pick-hook-test-8: 9 s
-ranked, 54 s in the generic order). On Table 2 (bench compose, 10 instances each, same
-seeds): Hook-then-Place-on-Slope's median 36.7 -> 28.1 s and values 622 -> 395;
-Push-then-Pick-then-Hook's values the same (266).
+what the held-out objects are (there the classifiers help). A mechanism learnt on its own
+task distribution meets other layouts in a composition (Slope-and-Blocker's slope stands
+elsewhere in Hook-then-Place-on-Slope), and there its ranking is worse than none. Movable
+objects are not limited: a composition puts them far from self-play's starts where the
+ranking still helps (results/HISTORY.md, "moved from code comments").
 """
 from __future__ import annotations
 

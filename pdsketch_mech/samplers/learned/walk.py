@@ -2,22 +2,15 @@
 
 Best first, with a random pick instead now and then (`explore`, trust.py), and topped up
 when the rest of the batch is hopeless. A batch often holds one proposal the classifier
-believes in and fifteen it does not: on Lever's placements the best of 16 scored log -2.1
-and the next -13.4 (lever-test-5, planner seed 5). Walking on from a best that failed
-simulates a value the classifier gives one chance in 10^5. So when the best left lies more
+believes in and fifteen it does not (a best at log -2 and the next at log -13): walking on
+from a best that failed simulates a value the classifier gives one chance in 10^5. So when the best left lies more
 than GAP below the best the walk has seen, the walk first tops the batch up with a fresh
 batch (ranked.py's BATCH proposals; at most TOP_UPS times a walk, and only for a pick the
 visit will verify): the next pick is the best of a fresh batch, not of a larger one (the
 optimizer's curse, ranked.py, stays at a batch's size), and nothing is dropped. A cut-off
 at the same gap, which skipped the rest instead, cost Poking (the tool put down after a
 push: any free spot works, and ending the visit sent the search back to a new push).
-Measured at cf0f99a (`bench samplers NAME --instances 10 --runs 3`, learned runs; values
-simulated, median and geometric mean over the 30 runs): Lever 18 / 23.4 -> 12 / 18.5,
-Poking 17 / 21.3 -> 19 / 19.0 (poking-test-6: 196, 206, 318 -> 34, 66, 114),
-Slope-and-Blocker 8 / 14.6 -> 8 / 13.6, Hook 30 / 33.0 -> 30 / 33.3; Edge and
-Center-of-Mass the same. A gap of 3 nats: Lever 17 / 17.5, Poking 17 / 19.8. On the next
-ten instances (`--seed 10`, not traced): Lever 18 / 19.0 -> 12 / 12.6, Poking 23 / 25.1 ->
-20 / 22.2.
+Figures: results/HISTORY.md.
 """
 from __future__ import annotations
 
