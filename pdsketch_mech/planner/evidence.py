@@ -1,0 +1,150 @@
+"""What refinement has learned about the scene, in one store, and the one estimate it gives a
+skeleton.
+
+Refinement reports every outcome of a step (simulated as the skeleton expects, simulated
+otherwise, or its sampler ran dry) under the step's *context* (skeleton.py: the step, the
+contact state before it, the movable objects handled before it). Skeletons whose steps share
+a context ask the scene the same question, so each outcome is evidence for all of them:
+
+- **outcomes**: successes S and failures F per context, from the *other* skeletons (a
+  skeleton's own work is in its effort already). The step's success estimate is Laplace's
+  (S + 1) / (S + F + 2); against the uninformed 1/2, a step that keeps working elsewhere
+  (the grasp of a box a hook pulled within reach) raises the skeleton's estimate up to 2x,
+  one that keeps failing lowers it.
+- **dead steps**: a step whose objects nothing earlier touched (a *pristine* step) meets them
+  as the scene began, whatever the skeleton; after DEAD_AFTER dry visits with no feasible
+  value ever, it is dead there. The skeleton search defers paths that repeat it (supply.py),
+  and refinement does not sample it again while its objects lie where they began.
+- **detours**: operators that return the symbolic state to one seen before, handling no
+  object of a dead step, change nothing the planner knows needs changing: each counts as a
+  step with the uninformed chance 1/2 of being needed.
+- **learned groundings**: with learned samplers, how far a mechanism grounding's classifier
+  scores fall behind its best rival's (promise.py), as a log-probability ratio.
+
+The estimate is the product of these ratios, never below FLOOR: every skeleton keeps a
+share of the work (schedule.py argues completeness from it).
+"""
+from __future__ import annotations
+
+import math
+import time
+from collections import Counter, defaultdict
+from typing import Dict, List, Optional, Sequence, Set, Tuple
+
+from ..symbolic.task import StripsTask
+from .promise import GroundingPromise
+from .skeleton import Context, Skeleton, StepKey, detour_steps, objects_of, touch_masks
+
+DEAD_AFTER = 3        # dry visits of a pristine step, never feasible, before it is dead where it lies
+FLOOR = 1.0 / 32.0    # the least estimate: the smallest share of work a skeleton keeps against the best
+
+
+class Evidence:
+    """Outcomes by context, dead pristine steps, learned groundings' scores: one store."""
+
+    def __init__(self, task: StripsTask, promise: Optional[GroundingPromise] = None,
+                 start: Optional[float] = None, dead_after: int = DEAD_AFTER, floor: float = FLOOR):
+        self.task, self.dead_after, self.floor = task, dead_after, floor
+        self.promise = promise if promise is not None else GroundingPromise()
+        self.start = time.perf_counter() if start is None else start
+        self.masks, self.bits = touch_masks(task)   # per operator: the movable objects it handles
+        keys = [(op.name, objects_of(op.args)) for op in task.operators]
+        self._op_steps = [tuple((keys[b], self.masks[b]) for b in (op.steps or (i,)))
+                          for i, op in enumerate(task.operators)]
+        self.flagged = 0                            # bits of the objects some dead step is about
+        self.dry: Counter = Counter()
+        self.feasible: Set[StepKey] = set()
+        self.dead: Dict[StepKey, float] = {}        # -> seconds from the start when found dead
+        self.deaths = 0                             # steps found dead so far (grows only)
+        self._totals: Dict[Context, List[int]] = defaultdict(lambda: [0, 0])            # [successes, failures]
+        self._by_rank: Dict[Tuple[Context, int], List[int]] = defaultdict(lambda: [0, 0])
+        self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}   # plan -> (flagged, detour operators)
+
+    # -- what refinement reports ------------------------------------------------------
+    def simulated(self, context: Context, rank: int, ok: bool) -> None:
+        """Skeleton `rank` simulated the step of `context`: as the skeleton expects or not."""
+        self._totals[context][0 if ok else 1] += 1
+        self._by_rank[(context, rank)][0 if ok else 1] += 1
+
+    def ran_dry(self, key: Optional[StepKey]) -> bool:
+        """A visit of pristine step `key` found no feasible value; True if that made it dead."""
+        if key is None or key in self.feasible or key in self.dead:
+            return False
+        self.dry[key] += 1
+        if self.dry[key] < self.dead_after:
+            return False
+        self.dead[key] = round(time.perf_counter() - self.start, 3)
+        self.deaths += 1
+        for name in key[1]:
+            if name in self.bits:
+                self.flagged |= 1 << self.bits[name]
+        return True
+
+    def found(self, key: Optional[StepKey]) -> None:
+        """Pristine step `key` had a feasible value (it simulated without error): never dead."""
+        if key is not None:
+            self.feasible.add(key)
+            self.dead.pop(key, None)
+
+    # -- what the search and refinement ask -------------------------------------------
+    def blocks(self, keys: Sequence[Optional[StepKey]]) -> bool:
+        """Whether a skeleton with these pristine keys repeats a dead step."""
+        return any(k in self.dead for k in keys if k is not None)
+
+    def blocks_operator(self, handled: int, op: int) -> bool:
+        """Whether operator `op` (its steps, for a mechanism), after a path that handled the
+        objects `handled`, has a dead pristine step (the skeleton search's callback)."""
+        if not self.dead:
+            return False
+        for key, mask in self._op_steps[op]:
+            if not mask & handled and key in self.dead:
+                return True
+            handled |= mask
+        return False
+
+    def is_dead(self, name: str, args: Sequence[str]) -> bool:
+        """Whether the step `name args`, met as the scene began, is dead."""
+        return (name, objects_of(args)) in self.dead
+
+    def movable(self, args: Sequence[str]) -> List[str]:
+        """The objects among `args` that steps may move (not fixed, not placeholders)."""
+        return [a for a in args if a in self.bits]
+
+    def labels(self) -> Dict[str, float]:
+        """Dead steps, as '(name objects...)', and when each was found dead (s)."""
+        return {f"({name} {' '.join(objects)})": t for (name, objects), t in self.dead.items()}
+
+    # -- the estimate -----------------------------------------------------------------
+    def counts(self, context: Context, rank: int = 0) -> Tuple[int, int]:
+        """(successes, failures) at `context` in skeletons other than `rank` (0: all)."""
+        total = self._totals.get(context)
+        if total is None:
+            return 0, 0
+        own = self._by_rank.get((context, rank), (0, 0))
+        return total[0] - own[0], total[1] - own[1]
+
+    def detours(self, plan: Sequence[int]) -> int:
+        """The plan's operators in detours no dead step explains (skeleton.detour_steps)."""
+        key = tuple(plan)
+        known = self._detours.get(key)
+        if known is None or known[0] != self.flagged:
+            known = self._detours[key] = (self.flagged, detour_steps(self.task, plan, self.masks, self.flagged))
+        return known[1]
+
+    def log_terms(self, skeleton: Skeleton, rank: int = 0) -> Dict[str, float]:
+        """The estimate's factors, as natural logs: outcomes elsewhere, detours, learned
+        groundings (rank 0: a skeleton not created yet, weighed by everything seen)."""
+        outcomes = 0.0
+        if self._totals:
+            for context in set(skeleton.contexts):   # a step repeated in the same context is one question
+                successes, failures = self.counts(context, rank)
+                if successes or failures:
+                    outcomes += math.log(2.0 * (successes + 1) / (successes + failures + 2))
+        groundings = sum(self.promise.gap(g, promised) for g, promised in set(skeleton.groundings()))
+        return {"outcomes": outcomes, "detours": -math.log(2.0) * self.detours(skeleton.plan),
+                "groundings": min(0.0, groundings)}
+
+    def estimate(self, skeleton: Skeleton, rank: int = 0) -> float:
+        """The skeleton's chance of being refined, relative to one nothing is known about:
+        the product of `log_terms`, at least FLOOR."""
+        return max(self.floor, math.exp(sum(self.log_terms(skeleton, rank).values())))
