@@ -164,3 +164,21 @@ def test_scene_contradicting_init_is_reported(write_files, capsys):
     err = capsys.readouterr().err
     assert status == 1  # symbolically the goal holds at :init: the only skeleton is the empty plan, which the scene refutes
     assert "warning: the scene and :init disagree: (support a b) is not true in the scene" in err
+
+
+@pytest.mark.slow
+def test_a_problem_whose_first_skeletons_are_all_unrefinable_is_still_solved():
+    """Completeness (planner/schedule.py): the first three skeletons put a block on blocks
+    beyond reach, and their placements never find a value, yet none of them is ever found
+    dead (the block they place was grasped first). Every skeleton keeps a share of the work,
+    so the fourth, which stacks another block within reach, gets its turn."""
+    path = os.path.join(ROOT, "tests", "data", "first-skeletons-unrefinable.pddl")
+    domain, problem = load_problem(path, [load_domain([BASIS])])
+    with build_world(problem) as world:
+        result = bilevel_plan(domain, problem, world, timeout=120, seed=0)
+    assert result.status == "solved"
+    assert [(s.name, s.args[:2]) for s in result.steps] == [("grasp", ("b", "table")), ("place", ("b", "a"))]
+    log = result.stats["skeleton_log"]
+    unrefinable = [e for e in log if "(place a far" in e["skeleton"]]
+    assert len(unrefinable) == 3 and all(e["effort"] > 0 for e in unrefinable)
+    assert log[-1]["rank"] == 4

@@ -111,9 +111,8 @@ class Refinement:
                     continue
                 # The first step's visit is over; the next slice draws fresh values. A visit
                 # that yielded nothing ends the skeleton only once the step is known dead
-                # (evidence.py): one dry visit of a stochastic sampler (a spoon's grasps, 120
-                # proposals) is bad luck as often as impossibility, and ending the skeleton
-                # there lost the Lever mechanism's own skeleton a quarter second in.
+                # (evidence.py): one dry visit of a stochastic sampler (a thin object's grasps)
+                # is bad luck as often as impossibility.
                 self.exhausted = self.root_yields == 0 and self._root_dead()
                 self.root_yields = 0
                 return None
