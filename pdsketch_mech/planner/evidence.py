@@ -6,11 +6,14 @@ otherwise, or its sampler ran dry) under the step's *context* (skeleton.py: the 
 contact state before it, the movable objects handled before it). Skeletons whose steps share
 a context ask the scene the same question, so each outcome is evidence for all of them:
 
-- **outcomes**: successes S and failures F per context, from the *other* skeletons (a
-  skeleton's own work is in its effort already). The step's success estimate is Laplace's
-  (S + 1) / (S + F + 2); against the uninformed 1/2, a step that keeps working elsewhere
-  (the grasp of a box a hook pulled within reach) raises the skeleton's estimate up to 2x,
-  one that keeps failing lowers it.
+- **outcomes**: how much better or worse a step does in its context than the same step does
+  anywhere (its *lift*). Anywhere: its successes and failures (dry visits included) in every
+  context and skeleton, p = (S + 1) / (S + F + 2), Laplace's rule. In its context: the
+  successes and failures of the *other* skeletons (a skeleton's own work is in its effort
+  already), p_c = (S_c + 2 p) / (S_c + F_c + 2), the same rule with p as its prior. The lift
+  p_c / p is 1 where nothing is known, below 1 where the step keeps failing, and large only
+  where a step that fails almost everywhere works (the grasp of a box out of reach, once a
+  hook pulled it closer): an easy step that works everywhere lifts nothing.
 - **dead steps**: a step whose objects nothing earlier touched (a *pristine* step) meets them
   as the scene began, whatever the skeleton; after DEAD_AFTER dry visits with no feasible
   value ever, it is dead there. The skeleton search defers paths that repeat it (supply.py),
@@ -33,7 +36,7 @@ from typing import Dict, List, Optional, Sequence, Set, Tuple
 
 from ..symbolic.task import StripsTask
 from .promise import GroundingPromise
-from .skeleton import Context, Skeleton, StepKey, detour_steps, objects_of, touch_masks
+from .skeleton import Asked, Context, Skeleton, StepKey, detour_steps, objects_of, touch_masks
 
 DEAD_AFTER = 3        # dry visits of a pristine step, never feasible, before it is dead where it lies
 FLOOR = 1.0 / 32.0    # the least estimate: the smallest share of work a skeleton keeps against the best
@@ -58,6 +61,7 @@ class Evidence:
         self.deaths = 0                             # steps found dead so far (grows only)
         self._totals: Dict[Context, List[int]] = defaultdict(lambda: [0, 0])            # [successes, failures]
         self._by_rank: Dict[Tuple[Context, int], List[int]] = defaultdict(lambda: [0, 0])
+        self._anywhere: Dict[Asked, List[int]] = defaultdict(lambda: [0, 0])            # per step, dry visits too
         self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}   # plan -> (flagged, detour operators)
 
     # -- what refinement reports ------------------------------------------------------
@@ -65,9 +69,14 @@ class Evidence:
         """Skeleton `rank` simulated the step of `context`: as the skeleton expects or not."""
         self._totals[context][0 if ok else 1] += 1
         self._by_rank[(context, rank)][0 if ok else 1] += 1
+        self._anywhere[context[0]][0 if ok else 1] += 1
 
-    def ran_dry(self, key: Optional[StepKey]) -> bool:
-        """A visit of pristine step `key` found no feasible value; True if that made it dead."""
+    def ran_dry(self, key: Optional[StepKey], context: Optional[Context] = None) -> bool:
+        """A visit of the step of `context` found no feasible value (a failure of the step,
+        anywhere); `key`: the step's pristine key (None: not pristine). True if that made the
+        pristine step dead."""
+        if context is not None:
+            self._anywhere[context[0]][1] += 1
         if key is None or key in self.feasible or key in self.dead:
             return False
         self.dry[key] += 1
@@ -131,15 +140,23 @@ class Evidence:
             known = self._detours[key] = (self.flagged, detour_steps(self.task, plan, self.masks, self.flagged))
         return known[1]
 
+    def lift(self, context: Context, rank: int = 0) -> float:
+        """How much more likely the step of `context` is to work there, in the other
+        skeletons' experience, than anywhere (module docstring); 1 when nothing is known."""
+        anywhere = self._anywhere.get(context[0])
+        if anywhere is None:
+            return 1.0
+        prior = (anywhere[0] + 1) / (anywhere[0] + anywhere[1] + 2)
+        successes, failures = self.counts(context, rank)
+        return (successes + 2 * prior) / (successes + failures + 2) / prior
+
     def log_terms(self, skeleton: Skeleton, rank: int = 0) -> Dict[str, float]:
         """The estimate's factors, as natural logs: outcomes elsewhere, detours, learned
         groundings (rank 0: a skeleton not created yet, weighed by everything seen)."""
         outcomes = 0.0
-        if self._totals:
+        if self._anywhere:
             for context in set(skeleton.contexts):   # a step repeated in the same context is one question
-                successes, failures = self.counts(context, rank)
-                if successes or failures:
-                    outcomes += math.log(2.0 * (successes + 1) / (successes + failures + 2))
+                outcomes += math.log(self.lift(context, rank))
         groundings = sum(self.promise.gap(g, promised) for g, promised in set(skeleton.groundings()))
         return {"outcomes": outcomes, "detours": -math.log(2.0) * self.detours(skeleton.plan),
                 "groundings": min(0.0, groundings)}

@@ -95,8 +95,8 @@ class Refinement:
                 self.generators[i] = None
                 why = "dead, its objects where they began" if self.skipped[i] else "no feasible parameters"
                 self.failures[f"{step.name}: {why}"] += 1
-                if self.visit_values[i] == 0 and self.evidence is not None:
-                    self.evidence.ran_dry(self.pristine[i])
+                if self.visit_values[i] == 0 and self.evidence is not None and not self.skipped[i]:
+                    self.evidence.ran_dry(self.pristine[i], self.skeleton.contexts[i])
                 if i > 0:
                     if self._continues(i - 1) and self.visit_successes[i] == 0:
                         # the step before led nowhere in this visit: its values failed

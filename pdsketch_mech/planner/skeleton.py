@@ -17,7 +17,8 @@ from ..symbolic.task import Operator, StripsTask
 StepKey = Tuple[str, Tuple[str, ...]]                    # the step in any skeleton: operator, objects
 Grounding = Tuple[str, Tuple[str, ...]]                  # a mechanism and its object arguments
 Promise = Tuple[Tuple[int, int], ...]                     # what a mechanism's last step certifies
-Context = Tuple[StepKey, int, FrozenSet[str]]             # step, contact state before, objects moved before
+Asked = Tuple[str, Tuple[str, ...], Optional[str]]      # a step as evidence pools it: + its mechanism
+Context = Tuple[Asked, int, FrozenSet[str]]               # that, the contact state before, objects handled before
 
 
 @dataclass(frozen=True)
@@ -89,10 +90,11 @@ def pristine_keys(steps: Sequence[Step], fixed: Set[str]) -> List[Optional[StepK
 def step_contexts(steps: Sequence[Step], init: int, observable: int, fixed: Set[str]) -> List[Context]:
     """Each step with what the scene can be like before it: the contact state the skeleton
     says, and which movable objects earlier steps handled. Two skeletons whose steps share a
-    context ask the same question of the scene, so their outcomes are shared evidence."""
+    context ask the same question of the scene (with the same samplers: a mechanism's step
+    is told apart from the basis step), so their outcomes are shared evidence."""
     contexts, before, touched = [], init, frozenset()
     for step in steps:
-        contexts.append((step_key(step), before & observable, touched))
+        contexts.append(((step.name, objects_of(step.args), step.mechanism), before & observable, touched))
         before = step.expected
         touched = touched | {o for o in objects_of(step.args) if o not in fixed}
     return contexts
