@@ -1,7 +1,11 @@
 """Where the adaptive planner's new skeletons come from.
 
 Skeletons come from the FF-guided symbolic search, in its order, which also gives them their
-rank. One that repeats a pristine step found dead (evidence.py) is deferred: kept aside and
+rank. With mechanisms loaded, a second search over the basis operators alone runs beside it,
+the two taking turns (a skeleton both find comes once): a mechanism is one operator to the
+search, so with every mechanism loaded, combinations of mechanisms would otherwise come
+before the plain plan of a problem that needs none (a tower of blocks), while a problem
+that needs a mechanism gives up at most every other rank to the basis search. One that repeats a pristine step found dead (evidence.py) is deferred: kept aside and
 handed out only once the search has no more (or the planner's cap is reached); the search
 itself puts paths through dead steps last. The next WINDOW skeletons are kept in view, so
 that the schedule can create a later one first when the evidence says it is more promising
@@ -10,7 +14,8 @@ that the schedule can create a later one first when the evidence says it is more
 from __future__ import annotations
 
 import time
-from typing import Iterator, List, Optional
+from dataclasses import replace
+from typing import Iterator, List, Optional, Set, Tuple
 
 from ..symbolic.skeletons import iter_skeletons
 from ..symbolic.task import StripsTask
@@ -33,13 +38,25 @@ def skeleton_order(task: StripsTask, deadline: Optional[float] = None,
                           blocked=evidence.blocks_operator)
 
 
+def without_mechanisms(task: StripsTask) -> StripsTask:
+    """The task with its mechanism macros never applicable (operator ids kept): a macro that
+    needs fact 0 both true and false."""
+    never = 1
+    return replace(task, operators=[replace(op, pre=op.pre | never, neg=op.neg | never, add=0, conditional=())
+                                    if op.steps else op for op in task.operators])
+
+
 class SkeletonSupply:
     """New skeletons for one plan, at most `max_skeletons` handed out, until `deadline`."""
 
     def __init__(self, task: StripsTask, evidence: Evidence, observable: int, deadline: float, max_skeletons: int):
         self.task, self.evidence, self.observable = task, evidence, observable
         self.deadline, self.max_skeletons = deadline, max_skeletons
-        self._search = skeleton_order(task, deadline, evidence)
+        self._searches = [skeleton_order(task, deadline, evidence)]
+        if task.facts and any(op.steps for op in task.operators):
+            self._searches.append(skeleton_order(without_mechanisms(task), deadline, evidence))
+        self._turn = 0                          # which search yields next
+        self._seen: Set[Tuple[int, ...]] = set()
         self._fixed = fixed_objects(task)
         self._more = True                       # the search may have more
         self._deferred: List[Skeleton] = []     # in the order they were found
@@ -81,6 +98,20 @@ class SkeletonSupply:
         self._deferred.append(skeleton)
         self.deferrals += 1
 
+    def _next_plan(self) -> Optional[List[int]]:
+        """The next plan from the searches in turn, none twice (None: all are done)."""
+        while self._searches:
+            self._turn %= len(self._searches)
+            plan = next(self._searches[self._turn], None)
+            if plan is None:
+                del self._searches[self._turn]
+                continue
+            self._turn += 1
+            if tuple(plan) not in self._seen:
+                self._seen.add(tuple(plan))
+                return plan
+        return None
+
     def _searching(self) -> bool:
         return self._more and self.taken < self.max_skeletons and time.perf_counter() < self.deadline
 
@@ -88,7 +119,7 @@ class SkeletonSupply:
         """The next skeleton from the search that repeats no dead pristine step (None when
         the search has no more or the cap is reached)."""
         while self._searching():
-            plan = next(self._search, None)
+            plan = self._next_plan()
             if plan is None:
                 self._more = False
                 break
