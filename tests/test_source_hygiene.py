@@ -14,28 +14,25 @@ TEST_INSTANCE = re.compile(r"\b[a-z][a-z-]*-" + "test" + r"-\d+\b")
 COMMIT_STAMP = re.compile(r"\b(at|since|before|after) [0-9a-f]{7}\b")
 
 
-def _python_files():
-    for folder in ("pdsketch_mech", "tests"):
-        yield from glob.glob(os.path.join(ROOT, folder, "**", "*.py"), recursive=True)
+def _lines_matching(pattern, folders):
+    """'path:line: text' for every line of the folders' Python files that `pattern` finds."""
+    found = []
+    for folder in folders:
+        for path in glob.glob(os.path.join(ROOT, folder, "**", "*.py"), recursive=True):
+            with open(path, encoding="utf-8") as handle:
+                for number, line in enumerate(handle, 1):
+                    if pattern.search(line):
+                        found.append(f"{os.path.relpath(path, ROOT)}:{number}: {line.strip()}")
+    return found
 
 
 def test_no_source_file_names_a_test_instance():
-    found = []
-    for path in _python_files():
-        with open(path, encoding="utf-8") as handle:
-            for number, line in enumerate(handle, 1):
-                if TEST_INSTANCE.search(line):
-                    found.append(f"{os.path.relpath(path, ROOT)}:{number}: {line.strip()}")
+    found = _lines_matching(TEST_INSTANCE, ("pdsketch_mech", "tests"))
     assert not found, "test instances named in source:\n" + "\n".join(found)
 
 
 def test_no_source_comment_carries_a_commit_stamped_measurement():
-    found = []
-    for path in glob.glob(os.path.join(ROOT, "pdsketch_mech", "**", "*.py"), recursive=True):
-        with open(path, encoding="utf-8") as handle:
-            for number, line in enumerate(handle, 1):
-                if COMMIT_STAMP.search(line):
-                    found.append(f"{os.path.relpath(path, ROOT)}:{number}: {line.strip()}")
+    found = _lines_matching(COMMIT_STAMP, ("pdsketch_mech",))
     assert not found, "measurements stamped with a commit in source:\n" + "\n".join(found)
 
 
