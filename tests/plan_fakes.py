@@ -6,12 +6,10 @@ from typing import Iterable, List, Sequence
 from pdsketch_mech.planner.skeleton import Skeleton, Step, pristine_keys, step_contexts
 
 
-def skeleton_of(steps: Sequence[Step], rank: int = 1, init: int = 0, observable: int = 0,
-                fixed: Iterable[str] = ("table", "slope"), plan: Sequence[int] = ()) -> Skeleton:
+def skeleton_of(steps: Sequence[Step], number: int = 1, fixed: Iterable[str] = ("table", "slope"),
+                plan: Sequence[int] = ()) -> Skeleton:
     """A Skeleton of `steps` with the keys and contexts the supply would give it."""
-    fixed = set(fixed)
-    return Skeleton(rank, list(plan), list(steps), pristine_keys(steps, fixed),
-                    step_contexts(steps, init, observable, fixed))
+    return Skeleton(number, list(plan), list(steps), pristine_keys(steps, set(fixed)), step_contexts(steps))
 
 
 def still_world(bodies=None, moved=lambda name: True):

@@ -14,8 +14,8 @@ def simulate(until_rank: int, estimates=lambda rank: 1.0):
     total = 0
     while True:
         upcoming = len(efforts) + 1
-        candidates = [(schedule.score(r, e, estimates(r)), r, r) for r, e in efforts.items()]
-        candidates.append((schedule.score(upcoming, 0, estimates(upcoming)), upcoming, upcoming))
+        candidates = [(schedule.score(r, e, estimates(r)), (r,), r) for r, e in efforts.items()]
+        candidates.append((schedule.score(upcoming, 0, estimates(upcoming)), (upcoming,), upcoming))
         turn = schedule.lowest(candidates)
         if turn == upcoming:
             efforts[turn] = 0
@@ -30,7 +30,7 @@ def shares(estimates, units=4000):
     """Effort per rank after `units` of work among skeletons that never succeed."""
     efforts = {rank: 0 for rank in estimates}
     for _ in range(units // schedule.SLICE):
-        turn = schedule.lowest([(schedule.score(r, e, estimates[r]), r, r) for r, e in efforts.items()])
+        turn = schedule.lowest([(schedule.score(r, e, estimates[r]), (r,), r) for r, e in efforts.items()])
         efforts[turn] += schedule.SLICE
     return efforts
 
@@ -52,9 +52,9 @@ def test_a_skeleton_at_the_floor_still_comes_and_gets_work():
 
 
 def test_new_skeletons_wait_for_their_turn():
-    assert schedule.lowest([(schedule.score(1, 0), 1, "first"), (schedule.score(2, 0), 2, "new")]) == "first"
+    assert schedule.lowest([(schedule.score(1, 0), (1,), "first"), (schedule.score(2, 0), (2,), "new")]) == "first"
     assert schedule.lowest([]) is None
-    assert schedule.lowest([(1.0, 3, "later"), (1.0, 2, "earlier")]) == "earlier"   # ties: the earlier rank
+    assert schedule.lowest([(1.0, (3,), "later"), (1.0, (2,), "earlier")]) == "earlier"   # ties: the earlier rank
 
 
 def test_a_skeleton_gets_about_its_estimate_times_the_work_of_its_rank():

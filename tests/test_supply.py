@@ -8,7 +8,6 @@ import time
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.planner.bilevel import prepare_task
 from pdsketch_mech.planner.evidence import Evidence
-from pdsketch_mech.planner.execute import contact_mask
 from pdsketch_mech.planner.supply import SkeletonSupply, skeleton_order
 
 from conftest import ROOT
@@ -32,15 +31,15 @@ def test_the_plain_plan_of_a_tower_comes_early_with_every_mechanism_loaded():
     full_search = _labels(task, skeleton_order(task), 40)
     assert not any(label.startswith(plain) and "(com" not in label and "(slope" not in label
                    for label in full_search[:20])          # the full search alone: mechanisms first
-    supply = SkeletonSupply(task, Evidence(task), contact_mask(task), time.perf_counter() + 60, 50)
+    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60, 50)
     window = supply.upcoming()
     basis_only = [s for s in window if not any(step.mechanism for step in s.steps)]
-    assert basis_only and basis_only[0].rank <= 2
+    assert basis_only and basis_only[0].order <= 2
     assert len({tuple(s.plan) for s in window}) == len(window)   # none twice
 
 
 def test_without_mechanisms_the_supply_is_the_search_alone():
     domain, problem = load_problem(TOWER, [load_domain([BASIS])])
     task, _ = prepare_task(domain, problem)
-    supply = SkeletonSupply(task, Evidence(task), contact_mask(task), time.perf_counter() + 60, 20)
+    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60, 20)
     assert [s.plan for s in supply.upcoming()] == [p for _, p in zip(range(8), skeleton_order(task))]

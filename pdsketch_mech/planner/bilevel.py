@@ -96,7 +96,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         result = execute_plan(task, problem, plan_entries(steps, values))
         return None if result.goal_reached else f"in a fresh world, {result.message}"
     evidence = Evidence(task, sampler.promise, start)
-    supply = SkeletonSupply(task, evidence, contact_mask(task), deadline, max_skeletons)
+    supply = SkeletonSupply(task, evidence, deadline, max_skeletons)
     probes = GroundingProbes(task, sampler, world, initial, seed)
     active: Dict[int, Refinement] = {}
     stats["skeleton_log"] = []
@@ -108,36 +108,38 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
             if sampler.learned:
                 probes.probe(window)
                 stats["probes"] = probes.count
-            chosen = lowest([(score(r.rank, r.effort, evidence.estimate(r.skeleton, r.rank)), r.rank, r)
+            # An upcoming skeleton competes as the next rank; among them, the search's order decides ties.
+            rank = supply.taken + 1
+            chosen = lowest([(score(r.rank, r.effort, evidence.estimate(r.skeleton, r.number)), (r.rank,), r)
                              for r in active.values()]
-                            + [(score(s.rank, 0, evidence.estimate(s)), s.rank, s) for s in window])
+                            + [(score(rank, 0, evidence.estimate(s)), (rank, s.order, s.number), s) for s in window])
             if chosen is None:
                 break
             if isinstance(chosen, Skeleton):
                 supply.take(chosen)
-                _log_created(stats, chosen, window, task, evidence, start)
+                _log_created(stats, chosen, rank, window, task, evidence, start)
                 # Each skeleton draws from its own generator, seeded by the plan's seed and its
                 # labels: what one skeleton draws does not depend on which others came first.
                 rng = np.random.default_rng([seed, zlib.crc32(chosen.label(task).encode())])
-                chosen = active[chosen.rank] = Refinement(chosen, initial, world, task, sampler, rng,
-                                                          in_fresh_world if validate else None, evidence)
+                chosen = active[chosen.number] = Refinement(chosen, initial, world, task, sampler, rng,
+                                                            in_fresh_world if validate else None, evidence, rank)
             refinement, deaths = chosen, evidence.deaths
             t0 = time.perf_counter()
             values = refinement.run(deadline, SLICE)
             stats["continuous_s"] += time.perf_counter() - t0
             if values is not None:
-                del active[refinement.rank]
+                del active[refinement.number]
                 for other in active.values():
                     failures += _retire(other, stats, evidence)
                 _final_counts(stats, supply, evidence, world.sim_steps - sim_start)
                 return _result("solved", refinement, values, start, stats, failures + refinement.failures, evidence)
             if refinement.exhausted:
-                del active[refinement.rank]
+                del active[refinement.number]
                 stats["pruned"] += 1
                 failures += _retire(refinement, stats, evidence)
             if evidence.deaths > deaths:  # skeletons that repeat the dead step wait for the others
-                for rank in [r for r, other in active.items() if evidence.blocks(other.pristine)]:
-                    retired = active.pop(rank)
+                for number in [n for n, other in active.items() if evidence.blocks(other.pristine)]:
+                    retired = active.pop(number)
                     failures += _retire(retired, stats, evidence)
                     supply.defer(retired.skeleton)
     finally:
@@ -155,13 +157,13 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     return PlanResult("unsolved", time_s=elapsed, stats=_finish_stats(stats, failures, sampler), reason=reason)
 
 
-def _log_created(stats: Dict[str, object], skeleton: Skeleton, window: List[Skeleton], task: StripsTask,
-                 evidence: Evidence, start: float) -> None:
+def _log_created(stats: Dict[str, object], skeleton: Skeleton, rank: int, window: List[Skeleton],
+                 task: StripsTask, evidence: Evidence, start: float) -> None:
     """The statistics' entry of a skeleton as it is created: when, what, and what the
     evidence said of it then."""
-    entry: Dict[str, object] = {"rank": skeleton.rank, "created_s": round(time.perf_counter() - start, 3),
+    entry: Dict[str, object] = {"rank": rank, "number": skeleton.number, "created_s": round(time.perf_counter() - start, 3),
                                 "skeleton": skeleton.label(task)}
-    passed = [s.rank for s in window if s.rank < skeleton.rank]
+    passed = [s for s in window if s.number < skeleton.number]
     if passed:
         entry["passed"] = len(passed)   # skeletons the search found first, left waiting
     detours = evidence.detours(skeleton.plan)
@@ -177,13 +179,13 @@ def _final_counts(stats: Dict[str, object], supply: SkeletonSupply, evidence: Ev
 
 def _retire(refinement: Refinement, stats: Dict[str, object], evidence: Evidence) -> Counter:
     """Close the skeleton's statistics entry (its latest: a deferred skeleton may come twice)."""
-    entry = next(e for e in reversed(stats["skeleton_log"]) if e["rank"] == refinement.rank)
+    entry = next(e for e in reversed(stats["skeleton_log"]) if e["number"] == refinement.number)
     entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
     if refinement.unblocked:
         entry["unblocked"] = len(refinement.unblocked)
     if refinement.failures:  # where this skeleton's work went: which step failed, and why
         entry["failures"] = dict(refinement.failures.most_common(4))
-    terms = {k: round(v, 2) for k, v in evidence.log_terms(refinement.skeleton, refinement.rank).items() if v}
+    terms = {k: round(v, 2) for k, v in evidence.log_terms(refinement.skeleton, refinement.number).items() if v}
     if terms:  # what the evidence said of it last, as natural logs
         entry["estimate"] = terms
     stats["executions"] += refinement.executions

@@ -2,18 +2,20 @@
 skeleton.
 
 Refinement reports every outcome of a step (simulated as the skeleton expects, simulated
-otherwise, or its sampler ran dry) under the step's *context* (skeleton.py: the step, the
-contact state before it, the movable objects handled before it). Skeletons whose steps share
-a context ask the scene the same question, so each outcome is evidence for all of them:
+otherwise, or its sampler ran dry) under the step's *context* (skeleton.py: the step and the
+steps before it). Skeletons that begin alike ask the scene the same questions, so each
+outcome is evidence for all of them:
 
 - **outcomes**: how much better or worse a step does in its context than the same step does
-  anywhere (its *lift*). Anywhere: its successes and failures (dry visits included) in every
-  context and skeleton, p = (S + 1) / (S + F + 2), Laplace's rule. In its context: the
-  successes and failures of the *other* skeletons (a skeleton's own work is in its effort
+  anywhere (its *lift*). Anywhere: its successes and failures (dry visits count as failures)
+  in every context and skeleton, p = (S + 1) / (S + F + 2), Laplace's rule. In its context:
+  the successes and failures of the *other* skeletons (a skeleton's own work is in its effort
   already), p_c = (S_c + 2 p) / (S_c + F_c + 2), the same rule with p as its prior. The lift
-  p_c / p is 1 where nothing is known, below 1 where the step keeps failing, and large only
-  where a step that fails almost everywhere works (the grasp of a box out of reach, once a
-  hook pulled it closer): an easy step that works everywhere lifts nothing.
+  p_c / p is 1 where nothing is known and below 1 where the step keeps failing. It rises above
+  1 only for a step found dead where the scene began that works in this context (the grasp
+  of a box out of reach, once a hook pulled it closer): that is what gets a skeleton past the
+  scene as it began, while a step that is merely easier here than elsewhere says nothing
+  about the skeleton's other steps.
 - **dead steps**: a step whose objects nothing earlier touched (a *pristine* step) meets them
   as the scene began, whatever the skeleton; after DEAD_AFTER dry visits with no feasible
   value ever, it is dead there. The skeleton search defers paths that repeat it (supply.py),
@@ -60,23 +62,24 @@ class Evidence:
         self.dead: Dict[StepKey, float] = {}        # -> seconds from the start when found dead
         self.deaths = 0                             # steps found dead so far (grows only)
         self._totals: Dict[Context, List[int]] = defaultdict(lambda: [0, 0])            # [successes, failures]
-        self._by_rank: Dict[Tuple[Context, int], List[int]] = defaultdict(lambda: [0, 0])
+        self._by_owner: Dict[Tuple[Context, int], List[int]] = defaultdict(lambda: [0, 0])
         self._anywhere: Dict[Asked, List[int]] = defaultdict(lambda: [0, 0])            # per step, dry visits too
         self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}   # plan -> (flagged, detour operators)
 
     # -- what refinement reports ------------------------------------------------------
-    def simulated(self, context: Context, rank: int, ok: bool) -> None:
-        """Skeleton `rank` simulated the step of `context`: as the skeleton expects or not."""
+    def simulated(self, context: Context, owner: int, ok: bool) -> None:
+        """Skeleton number `owner` tried the step of `context`: it simulated as the skeleton expects,
+        or not (or its samplers ran dry)."""
         self._totals[context][0 if ok else 1] += 1
-        self._by_rank[(context, rank)][0 if ok else 1] += 1
+        self._by_owner[(context, owner)][0 if ok else 1] += 1
         self._anywhere[context[0]][0 if ok else 1] += 1
 
-    def ran_dry(self, key: Optional[StepKey], context: Optional[Context] = None) -> bool:
-        """A visit of the step of `context` found no feasible value (a failure of the step,
-        anywhere); `key`: the step's pristine key (None: not pristine). True if that made the
-        pristine step dead."""
+    def ran_dry(self, key: Optional[StepKey], context: Optional[Context] = None, owner: int = 0) -> bool:
+        """A visit of the step of `context` in skeleton number `owner` found no feasible value (a
+        failure there); `key`: the step's pristine key (None: not pristine). True if that
+        made the pristine step dead."""
         if context is not None:
-            self._anywhere[context[0]][1] += 1
+            self.simulated(context, owner, False)   # the steps before were the same: the same question
         if key is None or key in self.feasible or key in self.dead:
             return False
         self.dry[key] += 1
@@ -124,12 +127,12 @@ class Evidence:
         return {f"({name} {' '.join(objects)})": t for (name, objects), t in self.dead.items()}
 
     # -- the estimate -----------------------------------------------------------------
-    def counts(self, context: Context, rank: int = 0) -> Tuple[int, int]:
-        """(successes, failures) at `context` in skeletons other than `rank` (0: all)."""
+    def counts(self, context: Context, owner: int = 0) -> Tuple[int, int]:
+        """(successes, failures) at `context` in skeletons other than number `owner` (0: all)."""
         total = self._totals.get(context)
         if total is None:
             return 0, 0
-        own = self._by_rank.get((context, rank), (0, 0))
+        own = self._by_owner.get((context, owner), (0, 0))
         return total[0] - own[0], total[1] - own[1]
 
     def detours(self, plan: Sequence[int]) -> int:
@@ -140,28 +143,30 @@ class Evidence:
             known = self._detours[key] = (self.flagged, detour_steps(self.task, plan, self.masks, self.flagged))
         return known[1]
 
-    def lift(self, context: Context, rank: int = 0) -> float:
+    def lift(self, context: Context, owner: int = 0) -> float:
         """How much more likely the step of `context` is to work there, in the other
         skeletons' experience, than anywhere (module docstring); 1 when nothing is known."""
         anywhere = self._anywhere.get(context[0])
         if anywhere is None:
             return 1.0
         prior = (anywhere[0] + 1) / (anywhere[0] + anywhere[1] + 2)
-        successes, failures = self.counts(context, rank)
-        return (successes + 2 * prior) / (successes + failures + 2) / prior
+        successes, failures = self.counts(context, owner)
+        lift = (successes + 2 * prior) / (successes + failures + 2) / prior
+        return lift if lift < 1.0 or context[0][:2] in self.dead else 1.0
 
-    def log_terms(self, skeleton: Skeleton, rank: int = 0) -> Dict[str, float]:
+    def log_terms(self, skeleton: Skeleton, owner: int = 0) -> Dict[str, float]:
         """The estimate's factors, as natural logs: outcomes elsewhere, detours, learned
-        groundings (rank 0: a skeleton not created yet, weighed by everything seen)."""
+        groundings (`owner`: the skeleton's number once it works, whose own outcomes are left
+        out; 0: a skeleton not created yet, weighed by everything seen)."""
         outcomes = 0.0
         if self._anywhere:
             for context in set(skeleton.contexts):   # a step repeated in the same context is one question
-                outcomes += math.log(self.lift(context, rank))
+                outcomes += math.log(self.lift(context, owner))
         groundings = sum(self.promise.gap(g, promised) for g, promised in set(skeleton.groundings()))
         return {"outcomes": outcomes, "detours": -math.log(2.0) * self.detours(skeleton.plan),
                 "groundings": min(0.0, groundings)}
 
-    def estimate(self, skeleton: Skeleton, rank: int = 0) -> float:
+    def estimate(self, skeleton: Skeleton, owner: int = 0) -> float:
         """The skeleton's chance of being refined, relative to one nothing is known about:
         the product of `log_terms`, at least FLOOR."""
-        return max(self.floor, math.exp(sum(self.log_terms(skeleton, rank).values())))
+        return max(self.floor, math.exp(sum(self.log_terms(skeleton, owner).values())))

@@ -44,6 +44,7 @@ class Refinement:
     rng: np.random.Generator
     validate: Optional[Validator] = None
     evidence: Optional[Evidence] = None
+    rank: int = 1                 # creation order among the plan's skeletons (1 = first)
     failures: Counter = field(default_factory=Counter)
     executions: int = 0
     effort: int = 0               # work units spent: sampler visits and simulated steps
@@ -51,7 +52,7 @@ class Refinement:
     exhausted: bool = False
 
     def __post_init__(self) -> None:
-        self.steps, self.rank = self.skeleton.steps, self.skeleton.rank
+        self.steps, self.number = self.skeleton.steps, self.skeleton.number
         self.pristine = self.skeleton.pristine if self.evidence is not None else [None] * len(self.steps)
         n = len(self.steps)
         self.snapshots: List[Optional[Snapshot]] = [self.start] + [None] * n
@@ -96,7 +97,7 @@ class Refinement:
                 why = "dead, its objects where they began" if self.skipped[i] else "no feasible parameters"
                 self.failures[f"{step.name}: {why}"] += 1
                 if self.visit_values[i] == 0 and self.evidence is not None and not self.skipped[i]:
-                    self.evidence.ran_dry(self.pristine[i], self.skeleton.contexts[i])
+                    self.evidence.ran_dry(self.pristine[i], self.skeleton.contexts[i], self.number)
                 if i > 0:
                     if self._continues(i - 1) and self.visit_successes[i] == 0:
                         # the step before led nowhere in this visit: its values failed
@@ -176,7 +177,7 @@ class Refinement:
     def _note(self, i: int, ok: bool) -> None:
         """Share step i's simulated outcome with the other skeletons (evidence.py)."""
         if self.evidence is not None:
-            self.evidence.simulated(self.skeleton.contexts[i], self.rank, ok)
+            self.evidence.simulated(self.skeleton.contexts[i], self.number, ok)
 
     def _irrelevant(self, j: int, i: int) -> bool:
         """Whether step j (before step i) is irrelevant to step i's failure: it names none of

@@ -8,7 +8,7 @@ imports none of them.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, FrozenSet, List, Optional, Sequence, Set, Tuple
+from typing import Dict, List, Optional, Sequence, Set, Tuple
 
 from ..samplers.interface import StepContext
 from ..symbolic.optimistic import is_placeholder
@@ -18,7 +18,7 @@ StepKey = Tuple[str, Tuple[str, ...]]                    # the step in any skele
 Grounding = Tuple[str, Tuple[str, ...]]                  # a mechanism and its object arguments
 Promise = Tuple[Tuple[int, int], ...]                     # what a mechanism's last step certifies
 Asked = Tuple[str, Tuple[str, ...], Optional[str]]      # a step as evidence pools it: + its mechanism
-Context = Tuple[Asked, int, FrozenSet[str]]               # that, the contact state before, objects handled before
+Context = Tuple[Asked, Tuple[Asked, ...]]                # that, and the steps before it
 
 
 @dataclass(frozen=True)
@@ -87,17 +87,14 @@ def pristine_keys(steps: Sequence[Step], fixed: Set[str]) -> List[Optional[StepK
     return keys
 
 
-def step_contexts(steps: Sequence[Step], init: int, observable: int, fixed: Set[str]) -> List[Context]:
-    """Each step with what the scene can be like before it: the contact state the skeleton
-    says, and which movable objects earlier steps handled. Two skeletons whose steps share a
-    context ask the same question of the scene (with the same samplers: a mechanism's step
-    is told apart from the basis step), so their outcomes are shared evidence."""
-    contexts, before, touched = [], init, frozenset()
-    for step in steps:
-        contexts.append(((step.name, objects_of(step.args), step.mechanism), before & observable, touched))
-        before = step.expected
-        touched = touched | {o for o in objects_of(step.args) if o not in fixed}
-    return contexts
+def step_contexts(steps: Sequence[Step]) -> List[Context]:
+    """Each step with the steps before it (operators, objects, mechanisms; not the values,
+    which differ between skeletons). Skeletons that begin alike start their common steps from
+    the same scene, so they ask the same question of it (with the same samplers: a
+    mechanism's step is told apart from the basis step), and their outcomes are shared
+    evidence. The values drawn differ, so evidence is about the steps, not about a scene."""
+    asked = [(step.name, objects_of(step.args), step.mechanism) for step in steps]
+    return [(asked[i], tuple(asked[:i])) for i in range(len(asked))]
 
 
 def detour_steps(task: StripsTask, plan: Sequence[int], masks: Sequence[int], flagged: int) -> int:
@@ -188,13 +185,18 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
 @dataclass
 class Skeleton:
     """One skeleton as the planner holds it: its symbolic plan, its basis steps, their
-    pristine keys and contexts, and its place in the search's order (rank, from 1)."""
+    pristine keys and contexts, its place in the order of the search that found it (order,
+    from 1) and the order in which the planner came to know it (number, unique)."""
 
-    rank: int
+    order: int
     plan: List[int]
     steps: List[Step]
     pristine: List[Optional[StepKey]]
     contexts: List[Context]
+    number: int = 0
+
+    def __post_init__(self) -> None:
+        self.number = self.number or self.order
 
     def groundings(self) -> List[Tuple[Grounding, Promise]]:
         return skeleton_groundings(self.steps)

@@ -1,13 +1,16 @@
 """Where the adaptive planner's new skeletons come from.
 
-Skeletons come from the FF-guided symbolic search, in its order, which also gives them their
-rank. With mechanisms loaded, a second search over the basis operators alone runs beside it,
-the two taking turns (a skeleton both find comes once): a mechanism is one operator to the
-search, so with every mechanism loaded, combinations of mechanisms would otherwise come
-before the plain plan of a problem that needs none (a tower of blocks), while a problem
-that needs a mechanism gives up at most every other rank to the basis search. One that repeats a pristine step found dead (evidence.py) is deferred: kept aside and
-handed out only once the search has no more (or the planner's cap is reached); the search
-itself puts paths through dead steps last. The next WINDOW skeletons are kept in view, so
+Skeletons come from the FF-guided symbolic search, in its order. With mechanisms loaded, a
+second search over the basis operators alone runs beside it, the two taking turns; each
+skeleton keeps its place in its own search's order (a skeleton both find comes once, from
+the first). To the search a mechanism is one operator, so with every mechanism loaded,
+combinations of mechanisms would otherwise come before the plain plan of a problem that
+needs none (a tower of blocks); beside them, that plan comes as early as it does without
+mechanisms.
+
+One that repeats a pristine step found dead (evidence.py) is deferred: kept aside and handed
+out only once the searches have no more (or the planner's cap is reached); the searches
+themselves put paths through dead steps last. The next WINDOW skeletons are kept in view, so
 that the schedule can create a later one first when the evidence says it is more promising
 (schedule.py): one skeleton with detours does not hold back the ones behind it.
 """
@@ -49,19 +52,20 @@ def without_mechanisms(task: StripsTask) -> StripsTask:
 class SkeletonSupply:
     """New skeletons for one plan, at most `max_skeletons` handed out, until `deadline`."""
 
-    def __init__(self, task: StripsTask, evidence: Evidence, observable: int, deadline: float, max_skeletons: int):
-        self.task, self.evidence, self.observable = task, evidence, observable
+    def __init__(self, task: StripsTask, evidence: Evidence, deadline: float, max_skeletons: int):
+        self.task, self.evidence = task, evidence
         self.deadline, self.max_skeletons = deadline, max_skeletons
         self._searches = [skeleton_order(task, deadline, evidence)]
         if task.facts and any(op.steps for op in task.operators):
             self._searches.append(skeleton_order(without_mechanisms(task), deadline, evidence))
+        self._yielded = [0] * len(self._searches)   # plans each search has yielded: their order
         self._turn = 0                          # which search yields next
         self._seen: Set[Tuple[int, ...]] = set()
         self._fixed = fixed_objects(task)
         self._more = True                       # the search may have more
         self._deferred: List[Skeleton] = []     # in the order they were found
         self._window: List[Skeleton] = []       # the next ones from the search
-        self.found = 0                          # skeletons the search yielded (their ranks)
+        self.found = 0                          # skeletons found so far (their numbers)
         self.taken = 0                          # skeletons handed out
         self.deferrals = 0                      # skeletons set aside (statistics)
         self.search_s = 0.0                     # time in the symbolic search
@@ -98,18 +102,21 @@ class SkeletonSupply:
         self._deferred.append(skeleton)
         self.deferrals += 1
 
-    def _next_plan(self) -> Optional[List[int]]:
-        """The next plan from the searches in turn, none twice (None: all are done)."""
+    def _next_plan(self) -> Optional[Tuple[List[int], int]]:
+        """The next plan from the searches in turn, none twice, with its place in the order
+        of the search that found it (None: all are done)."""
         while self._searches:
             self._turn %= len(self._searches)
-            plan = next(self._searches[self._turn], None)
+            turn = self._turn
+            plan = next(self._searches[turn], None)
             if plan is None:
-                del self._searches[self._turn]
+                del self._searches[turn], self._yielded[turn]
                 continue
+            self._yielded[turn] += 1
             self._turn += 1
             if tuple(plan) not in self._seen:
                 self._seen.add(tuple(plan))
-                return plan
+                return plan, self._yielded[turn]
         return None
 
     def _searching(self) -> bool:
@@ -119,14 +126,14 @@ class SkeletonSupply:
         """The next skeleton from the search that repeats no dead pristine step (None when
         the search has no more or the cap is reached)."""
         while self._searching():
-            plan = self._next_plan()
-            if plan is None:
+            found = self._next_plan()
+            if found is None:
                 self._more = False
                 break
+            plan, order = found
             self.found += 1
             steps = skeleton_steps(self.task, plan)
-            skeleton = Skeleton(self.found, plan, steps, pristine_keys(steps, self._fixed),
-                                step_contexts(steps, self.task.init, self.observable, self._fixed))
+            skeleton = Skeleton(order, plan, steps, pristine_keys(steps, self._fixed), step_contexts(steps), self.found)
             if not self.evidence.blocks(skeleton.pristine):
                 return skeleton
             self.defer(skeleton)
