@@ -155,6 +155,14 @@ def number_in(low: float, high: float = math.inf) -> Callable[[str], float]:
     return parse
 
 
+def max_ground_option(parser: argparse.ArgumentParser) -> None:
+    """`--max-ground N` of check and plan: the grounding size a problem may reach (docs/limits.md)."""
+    from .symbolic.ground_size import DEFAULT_MAX_GROUND, short_number
+    parser.add_argument("--max-ground", type=number_in(1.0), default=float(DEFAULT_MAX_GROUND), metavar="N",
+                        help="refuse a problem whose grounding is estimated above N atoms, stream instances or "
+                             f"macros for one action, stream or mechanism (default {short_number(DEFAULT_MAX_GROUND)})")
+
+
 def finite(text: str) -> float:
     """Any finite number."""
     value = _number(text)
