@@ -119,20 +119,24 @@ def conjuncts(formula: Formula) -> List[Formula]:
 
 
 def expanded_size(formula: Formula, type_size: Callable[[str], float]) -> float:
-    """Literals in the formula once its quantifiers are expanded over the objects."""
-    if isinstance(formula, (Atom, Equals)):
-        return 1.0
-    if isinstance(formula, Not):
-        return expanded_size(formula.body, type_size)
-    if isinstance(formula, (And, Or)):
-        return sum(expanded_size(p, type_size) for p in formula.parts)
-    if isinstance(formula, Imply):
-        return expanded_size(formula.condition, type_size) + expanded_size(formula.consequence, type_size)
-    if isinstance(formula, When):
-        return expanded_size(formula.condition, type_size) + expanded_size(formula.effect, type_size)
-    if isinstance(formula, (Forall, Exists)):
-        return math.prod(type_size(v.type) for v in formula.variables) * expanded_size(formula.body, type_size)
-    return 1.0
+    """Literals in the formula once its quantifiers are expanded over the objects (without
+    recursion: formulas may nest 500 deep)."""
+    total, stack = 0.0, [(formula, 1.0)]
+    while stack:
+        f, times = stack.pop()
+        if isinstance(f, (And, Or)):
+            stack.extend((part, times) for part in f.parts)
+        elif isinstance(f, Not):
+            stack.append((f.body, times))
+        elif isinstance(f, Imply):
+            stack += [(f.condition, times), (f.consequence, times)]
+        elif isinstance(f, When):
+            stack += [(f.condition, times), (f.effect, times)]
+        elif isinstance(f, (Forall, Exists)):
+            stack.append((f.body, times * math.prod(type_size(v.type) for v in f.variables)))
+        else:
+            total += times
+    return total
 
 
 def _effect_predicates(formula: Formula) -> Set[str]:
@@ -167,7 +171,7 @@ def ground_sizes(domain: Domain, problem: Problem, types: TypeTable) -> List[Gro
     sizes = _type_sizes(domain, problem, types)
     init: Dict[str, List[Tuple[str, ...]]] = defaultdict(list)
     for atom in problem.init:
-        init[atom.predicate].append(tuple(t.name for t in atom.args))
+        init[atom.predicate].append(tuple([t.name for t in atom.args]))
     facts = _Facts(init)
     out: List[GroundSize] = []
     if domain.streams:
