@@ -56,6 +56,8 @@ def run(main: Callable[[], int]) -> int:
         return EXIT_OK
     except KeyboardInterrupt:
         return process.report_interrupt()
+    except MemoryError:  # a limit on the process's memory (ulimit -v) was reached: say so in one line
+        return fail("out of memory; see docs/limits.md (--max-ground lowers what plan and check accept)")
     except BaseException:
         # After a Ctrl-C, any exception is its consequence: a library that swallowed the
         # KeyboardInterrupt may fail next (trimesh: TypeError on a half-imported module).

@@ -75,7 +75,7 @@ def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:
         try:
             return _ToNodes(file).transform(tree)
         except VisitError as exc:
-            if isinstance(exc.orig_exc, PddlError):
+            if isinstance(exc.orig_exc, (PddlError, MemoryError)):
                 raise exc.orig_exc from None
             raise
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 import sys
-from typing import List, Tuple
+from typing import Iterator, List, Tuple
 
 from .nodes import Atom, Const, Loc, Predicate, TypedName
 
@@ -20,10 +20,10 @@ _WORD = re.compile(r"[^\s()]+")
 Words = List[Tuple[str, Loc]]
 
 
-def _items(file: str, text: str, line: int, column: int) -> List[Tuple[str, Loc, Words]]:
+def _items(file: str, text: str, line: int, column: int) -> Iterator[Tuple[str, Loc, Words]]:
     """Each `(name word ...)` of a run: its name, location and other words with theirs.
-    One tight loop: this is the inner loop of reading a million-item section."""
-    out = []
+    One tight loop: this is the inner loop of reading a million-item section; a generator,
+    so that only the nodes built from the items stay in memory, not the items too."""
     line_start = 1 - column  # the offset that is column 1 of the current line
     newline = text.find("\n")
     for match in _ITEM.finditer(text):
@@ -32,9 +32,19 @@ def _items(file: str, text: str, line: int, column: int) -> List[Tuple[str, Loc,
             line += text.count("\n", newline, offset)
             line_start = text.rfind("\n", newline, offset) + 1
             newline = text.find("\n", offset)
-        loc = Loc(file, line, offset - line_start + 1)
+        column = offset - line_start + 1
+        loc = Loc(file, line, column)
         words: Words = []
-        if match.group(2) and not match.group(2).isspace():
+        rest = match.group(2)
+        if not rest or rest.isspace():
+            pass
+        elif newline == -1 or newline > match.end():  # the item is on one line: no line to track
+            first, position = column + match.start(2) - offset, 0
+            for word in rest.split():
+                position = rest.find(word, position)
+                words.append((word, Loc(file, line, first + position)))
+                position += len(word)
+        else:
             for word in _WORD.finditer(text, match.start(2), match.end(2)):
                 offset = word.start()
                 if newline != -1 and newline < offset:
@@ -42,8 +52,7 @@ def _items(file: str, text: str, line: int, column: int) -> List[Tuple[str, Loc,
                     line_start = text.rfind("\n", newline, offset) + 1
                     newline = text.find("\n", offset)
                 words.append((word.group(), Loc(file, line, offset - line_start + 1)))
-        out.append((match.group(1), loc, words))
-    return out
+        yield match.group(1), loc, words
 
 
 def split_atoms(file: str, text: str, line: int, column: int) -> List[Atom]:
@@ -63,10 +72,11 @@ def split_predicates(file: str, text: str, line: int, column: int) -> List[Predi
             if word == "-":
                 expect_type = True
             elif expect_type:
-                params.extend(TypedName(var.lower(), word.lower(), var_loc) for var, var_loc in pending)
+                type_ = sys.intern(word.lower())
+                params.extend(TypedName(sys.intern(var.lower()), type_, var_loc) for var, var_loc in pending)
                 pending, expect_type = [], False
             else:
                 pending.append((word, at))
-        params.extend(TypedName(var.lower(), "object", var_loc) for var, var_loc in pending)
+        params.extend(TypedName(sys.intern(var.lower()), "object", var_loc) for var, var_loc in pending)
         out.append(Predicate(name.lower(), tuple(params), loc))
     return out
