@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections import Counter, defaultdict
 from dataclasses import dataclass
+from operator import itemgetter
 from typing import Callable, Dict, Iterable, List, Optional, Sequence, Set, Tuple
 
 from ..lang.errors import PddlError
@@ -75,7 +76,7 @@ class _Facts:
             return len(facts)
         key = (predicate, bound)
         if key not in self._cache:
-            self._cache[key] = max(Counter(tuple(f[i] for i in bound) for f in facts).values())
+            self._cache[key] = max(Counter(map(itemgetter(*bound), facts)).values())
         return self._cache[key]
 
 
