@@ -14,8 +14,8 @@ from typing import Iterator, List, Tuple
 
 from .nodes import Atom, Const, Loc, Predicate, TypedName
 
-_ITEM = re.compile(r"\(\s*([^\s()]+)([^()]*)\)")
-_WORD = re.compile(r"[^\s()]+")
+_ITEM = re.compile(r"\([ \t\f\r\n]*([^ \t\f\r\n()]+)([^()]*)\)")  # the grammar's whitespace only
+_WORD = re.compile(r"[^ \t\f\r\n()]+")
 
 Words = List[Tuple[str, Loc]]
 
@@ -40,7 +40,7 @@ def _items(file: str, text: str, line: int, column: int) -> Iterator[Tuple[str, 
             pass
         elif newline == -1 or newline > match.end():  # the item is on one line: no line to track
             first, position = column + match.start(2) - offset, 0
-            for word in rest.split():
+            for word in _WORD.findall(rest):
                 position = rest.find(word, position)
                 words.append((word, Loc(file, line, first + position)))
                 position += len(word)
