@@ -5,7 +5,7 @@ The cases of issue 58, built in a temporary folder: every problem in `problems/`
 with 1,200,000 extra `(p)` declarations, a 300,000-fact `:init` (an IPC ferry problem with
 548 locations) and a classical problem too big to ground (gripper with 150,000 balls; also
 given to `plan`). Each runs as a fresh `python -m pdsketch_mech.X` process; its peak is its
-resident memory (wait4), interpreter and imports included. Targets: every case answered
+resident memory (VmHWM, polled), interpreter and imports included. Targets: every case answered
 (checked, or refused with one located error line) within `TARGET_S` and `TARGET_MB`; the
 300,000-fact `:init` accepted within `INIT_TARGET_S`.
 """
@@ -16,13 +16,14 @@ import re
 import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from typing import List, Optional, Sequence, Tuple
 
 from ..world.asset_index import REPO_ROOT
+from .child import wait_measured
 
 TARGET_S, TARGET_MB, INIT_TARGET_S = 5.0, 1024.0, 3.0
+LIMIT_S = 60.0  # a case still running then is stopped (and misses its target)
 OBJECTS, PREDICATES, FERRY_LOCATIONS, GRIPPER_BALLS = 120_000, 1_200_000, 548, 150_000
 _OBJECTS = re.compile(r"\(\s*:objects([^()]*)\)", re.IGNORECASE)
 _PREDICATES = re.compile(r"\(\s*:predicates", re.IGNORECASE)
@@ -120,16 +121,14 @@ def build_cases(folder: str) -> List[Case]:
 
 def measure(case: Case) -> Measured:
     """Run one case in a fresh process: exit status, wall time, peak resident memory."""
-    started = time.perf_counter()
     with tempfile.TemporaryFile() as err_file:
         child = subprocess.Popen([sys.executable, "-m", *case.command], cwd=REPO_ROOT, stdout=subprocess.DEVNULL,
                                  stderr=err_file)
-        _, status, usage = os.wait4(child.pid, 0)
-        child.returncode = os.waitstatus_to_exitcode(status)
-        seconds = time.perf_counter() - started
+        status, seconds, peak_mb = wait_measured(child, LIMIT_S)
         err_file.seek(0)
         lines = err_file.read().decode("utf-8", errors="backslashreplace").strip().splitlines()
-    peak_mb = usage.ru_maxrss / 1024
+    if status is None:
+        lines = [f"stopped after {LIMIT_S:g} s"]
     answer = "ok" if child.returncode == 0 else (lines[-1] if lines else f"exit {child.returncode}")
     answered = child.returncode == 0 or (child.returncode == 2 and len(lines) == 1)
     met = answered and (child.returncode == 0 or not case.expect_ok) and seconds <= case.target_s \

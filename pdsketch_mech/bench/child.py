@@ -14,7 +14,8 @@ import select
 import signal
 import time
 from dataclasses import dataclass
-from typing import Any, Callable, Optional
+import subprocess
+from typing import Any, Callable, Optional, Tuple
 
 
 @dataclass
@@ -31,6 +32,39 @@ def _status_kb(field: str) -> int:
             if line.startswith(field + ":"):
                 return int(line.split()[1])
     return 0
+
+
+def process_peak_mb(pid: int) -> Optional[float]:
+    """The peak resident memory of a running process (VmHWM), or None once it has ended.
+    Read while it runs: wait4's maxrss of a process started by fork and exec includes the
+    memory of the process it was forked from, which Linux carries across exec."""
+    try:
+        with open(f"/proc/{pid}/status", encoding="ascii") as handle:
+            for line in handle:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+def wait_measured(child: "subprocess.Popen", seconds: float) -> Tuple[Optional[int], float, float]:
+    """Wait for `child` at most `seconds` (then kill it): its exit status (None if killed),
+    wall time since the call and peak resident memory (polled every 10 ms)."""
+    started = time.perf_counter()
+    peak = 0.0
+    while True:
+        pid, status, _ = os.wait4(child.pid, os.WNOHANG)
+        if pid:
+            child.returncode = os.waitstatus_to_exitcode(status)
+            return child.returncode, time.perf_counter() - started, peak
+        if time.perf_counter() - started > seconds:
+            child.kill()
+            os.wait4(child.pid, 0)
+            child.returncode = -9
+            return None, time.perf_counter() - started, peak
+        peak = max(peak, process_peak_mb(child.pid) or 0.0)
+        time.sleep(0.01)
 
 
 def run_limited(function: Callable[[], Any], seconds: float, memory_mb: float) -> ChildResult:

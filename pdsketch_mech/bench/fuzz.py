@@ -30,7 +30,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 from .. import check
 from ..lang.loader import declared_domain_name
 from ..world.asset_index import REPO_ROOT
-from .child import child_error, run_limited
+from .child import child_error, run_limited, wait_measured
 from .mutate import mutate
 
 SEED_FOLDERS = ("domains", "problems", os.path.join("tests", "data"))
@@ -181,26 +181,13 @@ def check_in_subprocess(files: Sequence[str]) -> Run:
     """`python -m pdsketch_mech.check -q FILES` under the same time limit; its peak is its own
     (resident memory of a fresh interpreter, imports included). Run only after the mutant
     passed `check_in_child`, whose address-space limit keeps a runaway from the machine."""
-    started = time.perf_counter()
     with tempfile.TemporaryFile() as err_file:
         child = subprocess.Popen([sys.executable, "-m", "pdsketch_mech.check", "-q", *files], cwd=REPO_ROOT,
                                  stdout=subprocess.DEVNULL, stderr=err_file)
-        deadline = started + HANG_S + 30
-        while True:
-            pid, status, usage = os.wait4(child.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.perf_counter() > deadline:
-                child.kill()
-                _, status, usage = os.wait4(child.pid, 0)
-                child.returncode = -9
-                return Run(None, "", usage.ru_maxrss / 1024, time.perf_counter() - started)
-            time.sleep(0.01)
-        child.returncode = os.waitstatus_to_exitcode(status)
+        status, seconds, peak = wait_measured(child, HANG_S + 30)
         err_file.seek(0)
         err = err_file.read().decode("utf-8", errors="backslashreplace")
-    peak = usage.ru_maxrss / 1024
-    return Run(child.returncode, err, peak, time.perf_counter() - started, over_memory=peak > MEMORY_MB)
+    return Run(status, err, peak, seconds, over_memory=peak > MEMORY_MB)
 
 
 def run_fuzz(mutants: int, seed: int = 0, subprocess_every: int = 50, progress: bool = False,
