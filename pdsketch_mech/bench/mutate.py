@@ -170,26 +170,28 @@ _SECTION = re.compile(rb"\(\s*(:objects|:constants|:init|:predicates)\b", re.IGN
 _FIRST_ATOM = re.compile(rb"\(\s*[A-Za-z][\w-]*(?:\s+[A-Za-z][\w-]*)*\s*\)")
 
 
-def _after_section(data: bytes, names: Tuple[bytes, ...], rng: random.Random) -> int:
-    """Where to insert into the first of the sections `names` (just after its keyword), or
-    anywhere when the file has none of them."""
+def _after_section(data: bytes, names: Tuple[bytes, ...], rng: random.Random,
+                   counts: List[int]) -> Tuple[int, int]:
+    """Where to insert into the first of the sections `names` (just after its keyword), and
+    how many items; anywhere when the file has none of them, but then not the largest count:
+    elsewhere (in a formula, a scene) items are read token by token, about 20 us and 1 kB a
+    token (docs/limits.md), and a million would only measure that again."""
     for match in _SECTION.finditer(data):
         if match.group(1).lower() in names:
-            return match.end()
-    return rng.randrange(len(data) + 1)
+            return match.end(), rng.choice(counts)
+    return rng.randrange(len(data) + 1), rng.choice(counts[:-1])
 
 
 def many_objects(data: bytes, rng: random.Random) -> bytes:
     """Up to 120,000 more names in :objects (or :constants), typed as the section's first."""
-    i = _after_section(data, (b":objects", b":constants"), rng)
-    names = b" ".join(b"fz%d" % k for k in range(rng.choice(OBJECT_COUNTS)))
+    i, count = _after_section(data, (b":objects", b":constants"), rng, OBJECT_COUNTS)
+    names = b" ".join(b"fz%d" % k for k in range(count))
     return data[:i] + b" " + names + b" " + data[i:]
 
 
 def many_facts(data: bytes, rng: random.Random) -> bytes:
     """Up to 300,000 more facts in :init: copies of its first atom, or of one on new names."""
-    i = _after_section(data, (b":init",), rng)
-    count = rng.choice(FACT_COUNTS)
+    i, count = _after_section(data, (b":init",), rng, FACT_COUNTS)
     atom = _FIRST_ATOM.search(data, i)
     if atom is not None and rng.random() < 0.5:
         facts = b" ".join([atom.group()] * count)
@@ -200,8 +202,7 @@ def many_facts(data: bytes, rng: random.Random) -> bytes:
 
 def many_predicates(data: bytes, rng: random.Random) -> bytes:
     """Up to 1.2 M more declarations in :predicates: all `(p)`, or distinct ones."""
-    i = _after_section(data, (b":predicates",), rng)
-    count = rng.choice(PREDICATE_COUNTS)
+    i, count = _after_section(data, (b":predicates",), rng, PREDICATE_COUNTS)
     if rng.random() < 0.5:
         declarations = b" ".join([b"(p)"] * count)
     else:
