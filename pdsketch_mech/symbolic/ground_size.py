@@ -18,7 +18,7 @@ from typing import Callable, Dict, Iterable, List, Optional, Sequence, Set, Tupl
 
 from ..lang.errors import PddlError
 from ..lang.nodes import (
-    And, Atom, Const, Domain, Equals, Exists, Forall, Formula, Imply, Not, Or, Problem, TypedName, Var, When,
+    And, Atom, Const, Domain, Exists, Forall, Formula, Imply, Not, Or, Problem, TypedName, Var, When,
 )
 from ..lang.typecheck import TypeTable
 
