@@ -98,8 +98,10 @@ def _candidate_values(stream: Stream, candidates: List[List[str]], by_predicate:
     atoms = [lit.atom for lit in alternatives[0] if lit.positive and isinstance(lit.atom, Atom)] \
         if len(alternatives) == 1 else []
     joined = math.prod(len(by_predicate.get(a.predicate, ())) for a in atoms)
-    if not atoms or joined >= math.prod(len(c) for c in candidates):
-        return product(*candidates)  # the nested-loop join would visit more
+    if not atoms or joined >= math.prod(len(c) for c in candidates) or _certifies(stream, atoms):
+        # the join would visit more; or the stream's own facts, found while its tuples are
+        # tested, could let later tuples hold: only the lazy product sees them as before
+        return product(*candidates)
     names = [p.name for p in stream.inputs]
     index = [{value: i for i, value in enumerate(c)} for c in candidates]
     found = set()
@@ -112,6 +114,23 @@ def _candidate_values(stream: Stream, candidates: List[List[str]], by_predicate:
             if all(value in index[k] for k, value in enumerate(values)):
                 found.add(tuple(values))
     return sorted(found, key=lambda values: [index[k][v] for k, v in enumerate(values)])
+
+
+def _certifies(stream: Stream, atoms: List[Atom]) -> bool:
+    """Whether the stream certifies a predicate its own :domain asks for."""
+    certified = {a.predicate for a in _atoms(stream.certified)}
+    return any(a.predicate in certified for a in atoms)
+
+
+def _atoms(formula) -> List[Atom]:
+    out, stack = [], [formula]
+    while stack:
+        f = stack.pop()
+        if isinstance(f, Atom):
+            out.append(f)
+        else:
+            stack.extend(getattr(f, "parts", ()))
+    return out
 
 
 def _join(atoms: List[Atom], binding: Dict[str, str], by_predicate: Mapping[str, List[Fact]]
