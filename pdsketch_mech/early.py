@@ -1,12 +1,13 @@
 """The first code a command runs (`pdsketch_mech/__init__` imports it before anything else):
 from here until `process.install_interrupt_handler`, Ctrl-C ends the process at once with
 `interrupted` and status 130. Importing `process` (typing, re, enum, threading) takes about
-10 ms, in which Python's default handler printed a traceback. Only the sys, os and signal
-modules, already loaded by the interpreter, are used here."""
+10 ms, in which Python's default handler printed a traceback. Only modules the interpreter
+has already loaded, or built in, are used here: sys, os and _signal (the `signal` module
+imports enum, which takes milliseconds)."""
 from __future__ import annotations
 
+import _signal
 import os
-import signal
 import sys
 
 EXIT_INTERRUPTED = 130
@@ -41,4 +42,4 @@ def _exit_now(signum, frame) -> None:
 def install() -> None:
     """In a command, Ctrl-C exits 130 at once (nothing is held before `main` runs)."""
     if is_command():
-        signal.signal(signal.SIGINT, _exit_now)
+        _signal.signal(_signal.SIGINT, _exit_now)

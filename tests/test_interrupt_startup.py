@@ -1,6 +1,7 @@
 """Ctrl-C in the first milliseconds of a command exits 130 with `interrupted`, no traceback:
 while the package's first modules import (before `process` installs its handler), and at
-a sweep of delays from the end of the interpreter's own start-up."""
+a sweep of delays from about the end of the interpreter's own start-up (where a Ctrl-C is
+Python's, not the package's: a traceback there never passes through the package)."""
 import os
 import signal
 import subprocess
@@ -15,12 +16,12 @@ CHECK = [sys.executable, "-m", "pdsketch_mech.check", "domains/basis.pddl", "pro
 
 # Runs `check` as `python -m` does, but sends itself SIGINT as the module TARGET starts importing.
 TRIP = """
-import os, signal, sys
+import os, sys  # not signal: the package must not need it before its handler is installed
 sys.orig_argv = [sys.executable, "-m", "pdsketch_mech.check"]
 class Trip:
     def find_spec(self, name, path=None, target=None):
         if name == {target!r}:
-            os.kill(os.getpid(), signal.SIGINT)
+            os.kill(os.getpid(), 2)  # SIGINT
         return None
 sys.meta_path.insert(0, Trip())
 sys.argv = ["check", "domains/basis.pddl", "problems/com.pddl"]
@@ -33,7 +34,7 @@ def environment():
     return {**os.environ, "PYTHONPATH": ROOT}
 
 
-@pytest.mark.parametrize("target", ["pdsketch_mech.process", "typing", "threading", "pdsketch_mech.cli"])
+@pytest.mark.parametrize("target", ["signal", "pdsketch_mech.process", "typing", "threading", "pdsketch_mech.cli"])
 def test_ctrl_c_while_the_package_imports_exits_130(target):
     done = subprocess.run([sys.executable, "-c", TRIP.format(target=target)], capture_output=True, text=True,
                           cwd=ROOT, env=environment(), timeout=60)
@@ -62,6 +63,8 @@ def test_ctrl_c_at_any_early_moment_exits_130_without_a_traceback():
             _, err = run.communicate(timeout=30)
         finally:
             run.kill()
-        assert "Traceback" not in err, (extra, err[-500:])
+        if "Traceback" in err:  # still starting (a loaded machine): Python's own, never the package's
+            assert "pdsketch_mech" not in err and "KeyboardInterrupt" in err, (extra, err[-800:])
+            continue
         assert run.returncode in (130, 0), (extra, run.returncode, err[-500:])  # 0: it finished first
         assert err == ("interrupted\n" if run.returncode == 130 else ""), (extra, err[-500:])
