@@ -12,15 +12,18 @@ Exit 0 when every file is clean (warnings allowed), 2 otherwise, with one
 `FILE:LINE:COL: error: ...` line per failing file (a problem whose domain is not found is
 not reported when a domain file given failed: that error is the one to read). Only a problem
 with a scene (or a domain with streams) loads the simulator: checking classical PDDL stays fast.
+A problem whose grounding is estimated above `--max-ground` is refused, as `plan` refuses it
+(`symbolic/ground_size.py`, docs/limits.md).
 """
 from __future__ import annotations
 
 from typing import List, Optional, Sequence
 
-from .cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, print_error, print_warning, run_and_exit
+from .cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, max_ground_option, print_error, print_warning, run_and_exit
 from .lang.errors import PddlError, PddlWarning, did_you_mean
 from .lang.loader import DomainNotFound, LoadedDomain, declared_domain_name, load_domain, load_problem
 from .lang.nodes import Problem
+from .symbolic.ground_size import check_ground_size
 
 
 def _plural(count: int, word: str) -> str:
@@ -92,6 +95,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("-q", "--quiet", action="store_true", help="print errors and warnings only")
     parser.add_argument("--no-learned-samplers", action="store_true",
                         help="as plan's: do not load the mechanisms' learned samplers (a missing one is a warning)")
+    max_ground_option(parser)
     args = parser.parse_args(argv)
     learned = not args.no_learned_samplers
 
@@ -129,6 +133,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 check_samplers(domain)
                 if learned:
                     check_learned_samplers(domain)
+            check_ground_size(domain.domain, problem, domain.types, args.max_ground)  # as plan refuses it
             for warning in check_scene(domain, problem, path):
                 print_warning(warning)
         except DomainNotFound as error:

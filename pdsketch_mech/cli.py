@@ -56,6 +56,8 @@ def run(main: Callable[[], int]) -> int:
         return EXIT_OK
     except KeyboardInterrupt:
         return process.report_interrupt()
+    except MemoryError:  # a limit on the process's memory (ulimit -v) was reached: say so in one line
+        return fail("out of memory; see docs/limits.md (--max-ground lowers what plan and check accept)")
     except BaseException:
         # After a Ctrl-C, any exception is its consequence: a library that swallowed the
         # KeyboardInterrupt may fail next (trimesh: TypeError on a half-imported module).
@@ -153,6 +155,14 @@ def number_in(low: float, high: float = math.inf) -> Callable[[str], float]:
             raise argparse.ArgumentTypeError(f"must be a finite number {wanted}, got {text!r}")
         return value
     return parse
+
+
+def max_ground_option(parser: argparse.ArgumentParser) -> None:
+    """`--max-ground N` of check and plan: the grounding size a problem may reach (docs/limits.md)."""
+    from .symbolic.ground_size import DEFAULT_MAX_GROUND, short_number
+    parser.add_argument("--max-ground", type=number_in(1.0), default=float(DEFAULT_MAX_GROUND), metavar="N",
+                        help="refuse a problem whose grounding is estimated above N atoms, stream instances or "
+                             f"macros for one action, stream or mechanism (default {short_number(DEFAULT_MAX_GROUND)})")
 
 
 def finite(text: str) -> float:

@@ -16,11 +16,12 @@ from typing import List, Optional, Sequence
 from . import process
 from .cli import (
     EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, number_in, output_error, print_error,
-    print_warning, run_and_exit, seconds, seed, write_plan_json,
+    max_ground_option, print_warning, run_and_exit, seconds, seed, write_plan_json,
 )
 from .lang.errors import PddlError
 from .lang.loader import LoadedDomain, load_domain, load_problem
 from .lang.nodes import Problem
+from .symbolic.ground_size import check_ground_size
 from .symbolic.solve import SEARCHES, ClassicalResult, solve
 from .symbolic.validate import validate_plan
 
@@ -47,6 +48,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--basis-only", action="store_true", help="ignore mechanisms: basis operators only")
     parser.add_argument("--no-learned-samplers", action="store_true",
                         help="use the generic samplers inside mechanisms too (the paper's 'Macro' ablation)")
+    max_ground_option(parser)
     return parser
 
 
@@ -60,6 +62,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         for warning in loaded.warnings:
             print_warning(warning)
         loaded, problem = load_problem(args.problem, [loaded], samplers_required)
+        check_ground_size(loaded.domain, problem, loaded.types, args.max_ground)  # before it fills the memory
         inputs = [*loaded.files, args.problem]
         for error in (output_error(args.json, "--json", inputs, (".json",)),
                       output_error(args.render, "--render", inputs, (".gif",))):

@@ -13,8 +13,8 @@
   at once.
 
 Only processes running one of our commands (`python -m pdsketch_mech.X`) install the
-handler (the package's `__init__` does it first thing); a library user's process is left
-alone.
+handler (the package's `__init__` does it, after `early.py`'s, which covers the imports
+before it); a library user's process is left alone.
 """
 from __future__ import annotations
 
@@ -24,10 +24,11 @@ import signal
 import sys
 import threading
 import time
-from typing import Iterator, Optional, Sequence
+from typing import Iterator, Optional
+
+from .early import EXIT_INTERRUPTED, command_module, is_command  # noqa: F401 (command_module: part of the API)
 
 GRACE = 0.15          # seconds a KeyboardInterrupt gets to end the process on its own
-EXIT_INTERRUPTED = 130
 
 _interrupted = threading.Event()
 _reported = threading.Event()
@@ -47,27 +48,6 @@ def _process_age() -> Optional[float]:
 
 
 _STARTED = time.perf_counter() - max(0.0, _process_age() or 0.0)
-
-
-def command_module(argv: Sequence[str]) -> Optional[str]:
-    """The module run by `python [options] -m MODULE ...` (`sys.orig_argv`), else None."""
-    args = iter(argv[1:])
-    for arg in args:
-        if arg == "-m":
-            return next(args, None)
-        if arg.startswith("-m"):
-            return arg[2:]
-        if arg in ("-X", "-W"):
-            next(args, None)
-        elif arg == "-c" or not arg.startswith("-"):
-            return None  # a command string or a script: not one of ours
-    return None
-
-
-def is_command() -> bool:
-    """Whether this process runs one of the package's commands."""
-    module = command_module(getattr(sys, "orig_argv", ()))
-    return module is not None and module.split(".")[0] == __package__
 
 
 def started() -> float:

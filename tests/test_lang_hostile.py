@@ -52,10 +52,18 @@ def test_deep_formulas_check_plan_and_validate(write_files, capsys, kind, depth)
     assert "validate: plan valid" in capsys.readouterr().err
 
 
-def test_400_nested_quantifiers_are_a_located_error_when_planning(write_files, capsys):
+def test_400_nested_quantifiers_are_refused_by_check_and_plan(write_files, capsys):
     domain, problem = write_files(**{"d.pddl": DOMAIN.format(pre=nested("exists", 400)), "p.pddl": PROBLEM})
-    assert run_check(capsys, domain, problem) == (0, "")
-    assert plan.main([domain, problem]) == 2  # 2^400 groundings: refused, not attempted
+    status, err = run_check(capsys, domain, problem)  # 2^400 groundings: refused, not attempted
+    assert status == 2 and err.startswith(f"{problem}:1:1: error: the problem grounds to about 1e121 atoms "
+                                          "for action (stack ?x ?y); the limit is 5e6 (--max-ground N)")
+    assert plan.main([domain, problem]) == 2
+    assert capsys.readouterr().err == err
+
+
+def test_400_nested_quantifiers_within_the_limit_are_a_located_error_when_planning(write_files, capsys):
+    domain, problem = write_files(**{"d.pddl": DOMAIN.format(pre=nested("exists", 400)), "p.pddl": PROBLEM})
+    assert plan.main([domain, problem, "--max-ground", "1e300"]) == 2  # the grounder's own limit
     err = capsys.readouterr().err
     assert err.startswith(f"{domain}:7:") and err.endswith(": error: formula expands to more than 4096 alternatives\n")
 
@@ -244,8 +252,9 @@ def test_a_10_mb_problem_checks_in_5_s_and_300_mb(tmp_path):
     script = ("import sys; from pdsketch_mech import check; status = check.main(sys.argv[1:]); "
               "print(status, next(l.split()[1] for l in open('/proc/self/status') if l.startswith('VmHWM')))")
     started = time.perf_counter()
-    done = subprocess.run([sys.executable, "-c", script, "-q", str(domain), str(path)], capture_output=True,
-                          text=True, cwd=ROOT, timeout=120)
+    # 1.2 M blocks stack in 1.4e12 ways: past --max-ground's default, but this test is about reading
+    done = subprocess.run([sys.executable, "-c", script, "-q", "--max-ground", "1e13", str(domain), str(path)],
+                          capture_output=True, text=True, cwd=ROOT, timeout=120)
     elapsed = time.perf_counter() - started
     status, max_rss_kb = map(int, done.stdout.split())
     assert status == 0, done.stderr

@@ -88,6 +88,21 @@ def run_fuzz_command(args: argparse.Namespace) -> int:
     return EXIT_UNSOLVED if report.failures else EXIT_OK
 
 
+def run_big_inputs_command(args: argparse.Namespace) -> int:
+    """`big-inputs`: check (and plan) huge files, print time and peak memory per case."""
+    from . import big_inputs
+
+    results = big_inputs.run_big_inputs(args.case)
+    if not results:
+        raise ipc.BenchError(f"no case matches {', '.join(args.case)}")
+    print("\n".join(big_inputs.report(results)))
+    if args.json:
+        write_json(args.json, {"targets": {"seconds": big_inputs.TARGET_S, "mb": big_inputs.TARGET_MB,
+                                           "init_seconds": big_inputs.INIT_TARGET_S},
+                               "cases": [asdict(r) for r in results]})
+    return EXIT_OK
+
+
 def run_plan_command(args: argparse.Namespace) -> int:
     """`plan`: solve each PROBLEM (with DOMAIN) over N seeds and print the summary table."""
     from . import plans
@@ -246,6 +261,11 @@ def build_parser() -> argparse.ArgumentParser:
                       help="also run every K-th mutant as a separate process (default 100)")
     fuzz.add_argument("--json", metavar="FILE", help="write the counts and failures as JSON")
     fuzz.set_defaults(func=run_fuzz_command)
+    big = commands.add_parser("big-inputs", help="time and peak memory of check and plan on huge files "
+                                                 "(120,000 objects, 1.2 M predicates, 300,000 facts)")
+    big.add_argument("--case", action="append", metavar="TEXT", help="only the cases whose name contains TEXT")
+    big.add_argument("--json", metavar="FILE", help="write the figures as JSON")
+    big.set_defaults(func=run_big_inputs_command)
     solve = commands.add_parser("plan", help="manipulation problems over several seeds: time and samples")
     solve.add_argument("domain", metavar="DOMAIN", help="domain file (e.g. domains/basis.pddl or a mechanism)")
     solve.add_argument("problems", nargs="+", metavar="PROBLEM", help="problem files")

@@ -1,11 +1,14 @@
 """`python -m pdsketch_mech.bench fuzz [--mutants N] [--seed S]`: hostile input for `check`.
 
 Every shipped `.pddl` file (under `domains/`, `problems/` and `tests/data/`) is mutated
-(`bench/mutate.py`) and checked, with the unchanged files it needs (a problem's domain).
+(`bench/mutate.py`, including files grown to 120,000 objects, 300,000 facts or 1.2 M
+predicate declarations) and checked, with the unchanged files it needs (a problem's domain).
 The contract of the command-line tools, asserted for each mutant: exit 0, or exit 2 with
 exactly one line `MUTANT:LINE:COL: error: ...` (a line and column inside the file); no
-traceback, no raw control characters, no hang. Most mutants are checked in-process
-(`check.main`, fast); every `subprocess_every`-th one also as `python -m pdsketch_mech.check`.
+traceback, no raw control characters, no hang (`HANG_S`), and no more than `MEMORY_MB` of
+memory. Most mutants are checked in a forked child of this process (`check.main`, fast;
+`bench/child.py` limits and measures it); every `subprocess_every`-th one also as
+`python -m pdsketch_mech.check`, measured the same way.
 """
 from __future__ import annotations
 
@@ -27,10 +30,12 @@ from typing import Dict, List, Optional, Sequence, Tuple
 from .. import check
 from ..lang.loader import declared_domain_name
 from ..world.asset_index import REPO_ROOT
+from .child import child_error, run_limited, wait_measured
 from .mutate import mutate
 
 SEED_FOLDERS = ("domains", "problems", os.path.join("tests", "data"))
 HANG_S = 20.0  # seconds one check may take before it counts as a hang
+MEMORY_MB = 1024.0  # memory one check may add to its process before it counts as over-memory
 _PROBLEM_DOMAIN = re.compile(rb"\(\s*:domain\s+([^\s()]+)\s*\)", re.IGNORECASE)
 _WARNING = re.compile(r"^.*: warning: ")
 _UNPRINTABLE = re.compile(r"[\x00-\x09\x0b-\x1f\x7f-\x9f]")
@@ -40,7 +45,7 @@ _UNPRINTABLE = re.compile(r"[\x00-\x09\x0b-\x1f\x7f-\x9f]")
 class Outcome:
     file: str            # the seed file, relative to the repository
     mutations: List[str]
-    kind: str            # "ok" | "error" (located) | "unlocated" | "crash" | "hang"
+    kind: str            # "ok" | "error" (located) | "unlocated" | "crash" | "hang" | "over-memory"
     detail: str = ""
 
 
@@ -50,13 +55,16 @@ class FuzzReport:
     failures: List[Outcome] = field(default_factory=list)   # every crash, hang and unlocated error
     subprocess_runs: int = 0
     seconds: float = 0.0
+    peak_mb: float = 0.0     # the most memory one check added
+    slowest_s: float = 0.0   # the longest one check took
 
     def summary(self) -> str:
         total = sum(self.counts.values())
         return (f"{total} mutants ({self.subprocess_runs} also in a subprocess) in {self.seconds:.1f} s: "
                 f"{self.counts['ok']} accepted, {self.counts['error']} located errors, "
                 f"{self.counts['unlocated']} errors without line and column, {self.counts['crash']} crashes, "
-                f"{self.counts['hang']} hangs")
+                f"{self.counts['hang']} hangs, {self.counts['over-memory']} over {MEMORY_MB:g} MB; slowest check "
+                f"{self.slowest_s:.1f} s, largest {self.peak_mb:.0f} MB")
 
 
 def seed_files(root: str = REPO_ROOT) -> List[str]:
@@ -88,8 +96,22 @@ def companions(files: Sequence[str], root: str) -> Dict[str, List[str]]:
     return out
 
 
-def classify(status: Optional[int], err: str, mutant: str, data: bytes) -> Tuple[str, str]:
+@dataclass
+class Run:
+    """One check of a mutant: exit status (None: stopped), stderr, peak memory and time."""
+
+    status: Optional[int]
+    err: str
+    peak_mb: float = 0.0
+    seconds: float = 0.0
+    over_memory: bool = False
+
+
+def classify(status: Optional[int], err: str, mutant: str, data: bytes, over_memory: bool = False
+             ) -> Tuple[str, str]:
     """The kind of outcome of one check run, and a detail for failures."""
+    if over_memory:
+        return "over-memory", f"more than {MEMORY_MB:g} MB"
     if status is None:
         return "hang", f"no answer within {HANG_S:g} s"
     if "Traceback" in err:
@@ -129,6 +151,8 @@ def check_in_process(files: Sequence[str]) -> Tuple[Optional[int], str]:
             status = check.main(["-q", *files])
     except _Hang:
         status = None
+    except MemoryError:
+        raise  # the caller's memory limit was reached: over-memory, not a crash
     except BaseException as exc:  # what must never happen: a Python error escaping check
         return 1, f"Traceback (in-process): {type(exc).__name__}: {exc}"
     finally:
@@ -137,19 +161,40 @@ def check_in_process(files: Sequence[str]) -> Tuple[Optional[int], str]:
     return status, err.getvalue()
 
 
-def check_in_subprocess(files: Sequence[str]) -> Tuple[Optional[int], str]:
-    """`python -m pdsketch_mech.check -q FILES`: its exit status (None on a hang) and stderr."""
-    try:
-        done = subprocess.run([sys.executable, "-m", "pdsketch_mech.check", "-q", *files], capture_output=True,
-                              timeout=HANG_S + 30, cwd=REPO_ROOT)
-    except subprocess.TimeoutExpired:
-        return None, ""
-    return done.returncode, done.stderr.decode("utf-8", errors="backslashreplace")
+def check_in_child(files: Sequence[str]) -> Run:
+    """`check -q FILES` in a forked child limited to `HANG_S` and `MEMORY_MB`."""
+    started = time.perf_counter()
+    result = run_limited(lambda: check_in_process(files), HANG_S + 10, MEMORY_MB)
+    elapsed = time.perf_counter() - started
+    if result.hang:
+        return Run(None, "", result.peak_mb, elapsed)
+    if result.out_of_memory:
+        return Run(None, "", result.peak_mb, elapsed, over_memory=True)
+    error = child_error(result)
+    if error is not None:
+        return Run(1, f"Traceback (in the child): {error}", result.peak_mb, elapsed)
+    status, err = result.value
+    return Run(status, err, result.peak_mb, elapsed)
 
 
-def run_fuzz(mutants: int, seed: int = 0, subprocess_every: int = 50, progress: bool = False) -> FuzzReport:
-    """Check `mutants` mutants of the seed files; a mirror of them in a temporary folder
-    keeps relative paths (`:extends "../basis.pddl"`) working and the repository untouched."""
+def check_in_subprocess(files: Sequence[str]) -> Run:
+    """`python -m pdsketch_mech.check -q FILES` under the same time limit; its peak is its own
+    (resident memory of a fresh interpreter, imports included). Run only after the mutant
+    passed `check_in_child`, whose address-space limit keeps a runaway from the machine."""
+    with tempfile.TemporaryFile() as err_file:
+        child = subprocess.Popen([sys.executable, "-m", "pdsketch_mech.check", "-q", *files], cwd=REPO_ROOT,
+                                 stdout=subprocess.DEVNULL, stderr=err_file)
+        status, seconds, peak = wait_measured(child, HANG_S + 30)
+        err_file.seek(0)
+        err = err_file.read().decode("utf-8", errors="backslashreplace")
+    return Run(status, err, peak, seconds, over_memory=peak > MEMORY_MB)
+
+
+def run_fuzz(mutants: int, seed: int = 0, subprocess_every: int = 50, progress: bool = False,
+             grow: bool = True) -> FuzzReport:
+    """Check `mutants` mutants of the seed files (with files grown huge unless not `grow`);
+    a mirror of them in a temporary folder keeps relative paths (`:extends "../basis.pddl"`)
+    working and the repository untouched."""
     rng = random.Random(seed)
     report = FuzzReport()
     started = time.perf_counter()
@@ -162,19 +207,24 @@ def run_fuzz(mutants: int, seed: int = 0, subprocess_every: int = 50, progress: 
             with open(os.path.join(REPO_ROOT, rel), "rb") as handle:
                 originals[rel] = handle.read()
         needs = companions(files, mirror)
+        for rel in files:  # load the simulator and the learned samplers here once, not in every child
+            check_in_process([os.path.join(mirror, d) for d in needs.get(rel, [])] + [os.path.join(mirror, rel)])
         for number in range(mutants):
             rel = rng.choice(files)
-            data, names = mutate(originals[rel], rng)
+            data, names = mutate(originals[rel], rng, grow)
             path = os.path.join(mirror, rel)
             with open(path, "wb") as handle:
                 handle.write(data)
             inputs = [os.path.join(mirror, d) for d in needs.get(rel, [])] + [path]
-            runs = [check_in_process(inputs)]
-            if subprocess_every and number % subprocess_every == 0:
+            runs = [check_in_child(inputs)]
+            stopped = runs[0].status is None
+            if subprocess_every and number % subprocess_every == 0 and not stopped:
                 runs.append(check_in_subprocess(inputs))
                 report.subprocess_runs += 1
-            for index, (status, err) in enumerate(runs):
-                kind, detail = classify(status, err, path, data)
+            report.peak_mb = max([report.peak_mb, runs[0].peak_mb])
+            report.slowest_s = max([report.slowest_s] + [run.seconds for run in runs])
+            for index, run in enumerate(runs):
+                kind, detail = classify(run.status, run.err, path, data, run.over_memory)
                 if index == 0:  # the subprocess run repeats the mutant: counted as a failure only
                     report.counts[kind] += 1
                 if kind not in ("ok", "error"):

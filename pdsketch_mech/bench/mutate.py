@@ -1,6 +1,7 @@
 """Seeded mutations of `.pddl` files for the hostile-input fuzzer (`bench fuzz`): token,
-line and byte edits, deep nesting, special numbers and other encodings. Each mutation
-takes the file's bytes and a `random.Random` and returns new bytes."""
+line and byte edits, deep nesting, special numbers and other encodings, and growths (up to
+120,000 objects, 300,000 facts, 1.2 M predicate declarations). Each mutation takes the
+file's bytes and a `random.Random` and returns new bytes."""
 from __future__ import annotations
 
 import random
@@ -162,17 +163,69 @@ def encoding(data: bytes, rng: random.Random) -> bytes:
     return text.encode("utf-32")
 
 
+OBJECT_COUNTS = [100, 5000, 120_000]
+FACT_COUNTS = [1000, 30_000, 300_000]
+PREDICATE_COUNTS = [1000, 100_000, 1_200_000]
+_SECTION = re.compile(rb"\(\s*(:objects|:constants|:init|:predicates)\b", re.IGNORECASE)
+_FIRST_ATOM = re.compile(rb"\(\s*[A-Za-z][\w-]*(?:\s+[A-Za-z][\w-]*)*\s*\)")
+
+
+def _after_section(data: bytes, names: Tuple[bytes, ...], rng: random.Random,
+                   counts: List[int]) -> Tuple[int, int]:
+    """Where to insert into the first of the sections `names` (just after its keyword), and
+    how many items; anywhere when the file has none of them, but then not the largest count:
+    elsewhere (in a formula, a scene) items are read token by token, about 20 us and 1 kB a
+    token (docs/limits.md), and a million would only measure that again."""
+    for match in _SECTION.finditer(data):
+        if match.group(1).lower() in names:
+            return match.end(), rng.choice(counts)
+    return rng.randrange(len(data) + 1), rng.choice(counts[:-1])
+
+
+def many_objects(data: bytes, rng: random.Random) -> bytes:
+    """Up to 120,000 more names in :objects (or :constants), typed as the section's first."""
+    i, count = _after_section(data, (b":objects", b":constants"), rng, OBJECT_COUNTS)
+    names = b" ".join(b"fz%d" % k for k in range(count))
+    return data[:i] + b" " + names + b" " + data[i:]
+
+
+def many_facts(data: bytes, rng: random.Random) -> bytes:
+    """Up to 300,000 more facts in :init: copies of its first atom, or of one on new names."""
+    i, count = _after_section(data, (b":init",), rng, FACT_COUNTS)
+    atom = _FIRST_ATOM.search(data, i)
+    if atom is not None and rng.random() < 0.5:
+        facts = b" ".join([atom.group()] * count)
+    else:
+        facts = b" ".join(b"(fz-p fz%d fz%d)" % (k, k + 1) for k in range(count))
+    return data[:i] + b"\n" + facts + b"\n" + data[i:]
+
+
+def many_predicates(data: bytes, rng: random.Random) -> bytes:
+    """Up to 1.2 M more declarations in :predicates: all `(p)`, or distinct ones."""
+    i, count = _after_section(data, (b":predicates",), rng, PREDICATE_COUNTS)
+    if rng.random() < 0.5:
+        declarations = b" ".join([b"(p)"] * count)
+    else:
+        declarations = b" ".join(b"(fz%d ?x ?y)" % k for k in range(count))
+    return data[:i] + b"\n" + declarations + b"\n" + data[i:]
+
+
+GROWTHS: Dict[str, Mutation] = {"many-objects": many_objects, "many-facts": many_facts,
+                                "many-predicates": many_predicates}
+
 MUTATIONS: Dict[str, Mutation] = {
     "delete-token": delete_token, "duplicate-token": duplicate_token, "swap-tokens": swap_tokens,
     "replace-token": replace_token, "delete-line": delete_line, "duplicate-line": duplicate_line,
     "swap-lines": swap_lines, "flip-byte": flip_byte, "insert-bytes": insert_bytes, "truncate": truncate,
-    "deep-nesting": deep_nesting, "special-number": special_number, "encoding": encoding,
+    "deep-nesting": deep_nesting, "special-number": special_number, "encoding": encoding, **GROWTHS,
 }
 
 
-def mutate(data: bytes, rng: random.Random) -> Tuple[bytes, List[str]]:
-    """One to three random mutations of `data`, and their names."""
-    names = [rng.choice(list(MUTATIONS)) for _ in range(rng.choice((1, 1, 2, 3)))]
+def mutate(data: bytes, rng: random.Random, grow: bool = True) -> Tuple[bytes, List[str]]:
+    """One to three random mutations of `data`, and their names; without the growths
+    (`GROWTHS`) unless `grow`."""
+    kinds = list(MUTATIONS) if grow else [k for k in MUTATIONS if k not in GROWTHS]
+    names = [rng.choice(kinds) for _ in range(rng.choice((1, 1, 2, 3)))]
     for name in names:
         data = MUTATIONS[name](data, rng)
     return data, names

@@ -22,12 +22,14 @@ import lark
 from lark import Lark, Token, Transformer_NonRecursive, v_args
 from lark.exceptions import UnexpectedInput, VisitError
 
+from .. import process
 from ..disk_cache import entry_path, store
 from .errors import PddlError, did_you_mean
 from .nodes import (
     Action, ActionCall, And, Atom, Const, Domain, Equals, Exists, Forall, Imply, Loc, Mechanism,
     Not, Or, Predicate, Problem, RunLoc, SceneEntry, SceneProp, Stream, Symbol, TypedName, Var, When,
 )
+from .runs import split_atoms, split_predicates
 from .source import check_nesting, read_text
 from .syntax_errors import syntax_error
 
@@ -73,7 +75,7 @@ def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:
         try:
             return _ToNodes(file).transform(tree)
         except VisitError as exc:
-            if isinstance(exc.orig_exc, PddlError):
+            if isinstance(exc.orig_exc, (PddlError, MemoryError)):
                 raise exc.orig_exc from None
             raise
 
@@ -82,12 +84,17 @@ def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:
 def _no_cycle_collection() -> Iterator[None]:
     """Pause the cyclic garbage collector: parsing creates millions of objects and no cycles,
     and the collector's repeated passes over them would make parsing quadratic in practice
-    (a 1.2-million-object problem: 3.3 s instead of 0.9 s)."""
+    (a 1.2-million-object problem: 3.3 s instead of 0.9 s). In a command, the nodes are then
+    frozen out of the collector's view, or the passes come back while the file is checked
+    (frozen objects are still freed by reference counting); a library caller's collector is
+    left as it was."""
     enabled = gc.isenabled()
     gc.disable()
     try:
         yield
     finally:
+        if process.is_command():
+            gc.freeze()
         if enabled:
             gc.enable()
 
@@ -189,7 +196,13 @@ class _ToNodes(Transformer_NonRecursive):
 
     @v_args(meta=True)
     def predicates(self, meta, children):
-        return "predicates", children, self._loc(meta)
+        out: List[Predicate] = []
+        for child in children:
+            if isinstance(child, Token):
+                out.extend(split_predicates(self.file, child.value, child.line, child.column))
+            else:
+                out.append(child)
+        return "predicates", out, self._loc(meta)
 
     @v_args(meta=True)
     def problem_domain(self, meta, children):
@@ -197,7 +210,13 @@ class _ToNodes(Transformer_NonRecursive):
 
     @v_args(meta=True)
     def init(self, meta, children):
-        return "init", tuple(children), self._loc(meta)
+        out: List[Atom] = []
+        for child in children:
+            if isinstance(child, Token):
+                out.extend(split_atoms(self.file, child.value, child.line, child.column))
+            else:
+                out.append(child)
+        return "init", tuple(out), self._loc(meta)
 
     @v_args(meta=True)
     def goal(self, meta, children):
@@ -322,6 +341,8 @@ class _ToNodes(Transformer_NonRecursive):
     def atom(self, meta, children):
         name, *args = children
         return Atom(name.lower(), tuple(args), self._loc(meta))
+
+    init_atom = atom
 
     def var(self, children):
         return Var(children[0].lower(), self._loc(children[0]))

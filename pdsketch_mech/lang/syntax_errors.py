@@ -17,6 +17,7 @@ _TERMINAL_WORDS = {
     "NAME": "a name", "NAME_RUN": "a name", "VARIABLE": "a variable", "REQUIREMENT": "a requirement such as :strips",
     "KEYWORD": "a property such as :asset", "NUMBER": "a number", "STRING": 'a "string"',
     "$END": "end of file", "<END-OF-FILE>": "end of file",
+    "ATOM_RUN": "'('", "PREDICATE_RUN": "'('",  # runs of items: each starts with one
 }
 
 
@@ -84,6 +85,8 @@ def syntax_error(exc: UnexpectedInput, text: str, file: str, terminals: Sequence
         expected, word, kind = exc.expected, str(exc.token), exc.token.type
         if kind == "NAME_RUN":  # several names lexed as one token: the first is unexpected
             word, kind = word.split()[0], "NAME"
+        elif kind in ("ATOM_RUN", "PREDICATE_RUN"):  # several items as one token: the first '('
+            word, kind = "(", None
     else:
         expected, kind = exc.allowed, None
         word = re.match(r"[^\s()]*", text[exc.pos_in_stream:]).group(0) or text[exc.pos_in_stream]

@@ -127,8 +127,7 @@ def check_problem(problem: Problem, domain: Domain, types: Optional[TypeTable] =
     constants = {c.name: c.type for c in domain.constants}
     objects = _declare_objects(problem.objects, types, "object", constants)
     ctx = _Context(types, {p.name: p for p in domain.predicates}, objects)
-    for atom in problem.init:
-        _check_atom(atom, {}, ctx)
+    _check_init(problem.init, ctx)
     _check_condition(problem.goal, {}, ctx)
     if problem.scene is not None:
         build_scene(problem)
@@ -216,6 +215,18 @@ def _check_atom(atom: Atom, scope: Mapping[str, str], ctx: _Context) -> None:
         raise PddlError(f"unknown predicate '{atom.predicate}'"
                         f"{did_you_mean(atom.predicate, ctx.predicates)}", atom.loc)
     _check_args(atom.args, predicate.parameters, f"predicate '{atom.predicate}'", atom.loc, scope, ctx)
+
+
+def _check_init(atoms: Sequence[Atom], ctx: _Context) -> None:
+    """`_check_atom` on every fact, each predicate and combination of argument types checked
+    once: an :init may hold millions of facts over a few types."""
+    seen = set()
+    types = ctx.objects.get
+    for atom in atoms:
+        key = (atom.predicate, *[types(arg.name) for arg in atom.args])
+        if key not in seen:
+            _check_atom(atom, {}, ctx)  # an unknown object (type None) fails here, located
+            seen.add(key)
 
 
 def _bind(variables: Sequence[TypedName], scope: Mapping[str, str], ctx: _Context) -> Dict[str, str]:
