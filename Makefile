@@ -22,14 +22,17 @@ bench: $(STAMP)
 	    --out out/bench/table1-short --resume
 
 bench-ipc: $(STAMP)
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[bench]'
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[bench]' --config-settings editable_mode=compat
 	$(BIN)/python -m pdsketch_mech.bench ipc tests/data/ipc --peer pyperplan --timeout 120
 
 setup: $(STAMP)
 
-$(STAMP): setup.cfg pyproject.toml constraints.txt
+# An editable install in setuptools' compat mode puts the checkout on sys.path with a plain
+# .pth line: the default mode's import hook runs at every interpreter start-up, before any
+# Ctrl-C handler can be installed, and costs every command start-up time.
+$(STAMP): setup.cfg pyproject.toml constraints.txt Makefile
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[test]'
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[test]' --config-settings editable_mode=compat
 	touch $@
 
 clean:
