@@ -135,17 +135,18 @@ def run_mechanisms_command(args: argparse.Namespace) -> int:
     columns = [mechanisms.BY_TASK[t] for t in tasks]
     fragments = {c.task: mechanisms.fragment_of(c, args.mechanisms_dir) for c in columns}
     _check(args, list(fragments.values()))
-    every = tuple(sorted(glob.glob(os.path.join(args.mechanisms_dir, "*.pddl")))) if ALL_MECHANISMS in methods else ()
+    own = [m for m in methods if m != ALL_MECHANISMS]
+    every: tuple = ()
     if ALL_MECHANISMS in methods:
+        every = tuple(sorted(glob.glob(os.path.join(args.mechanisms_dir, "*.pddl"))))
         if not every:
             raise BenchError(f"--mechanisms-dir {args.mechanisms_dir}: no .pddl fragments there")
         _check(args, every)
+    common = dict(planner_seed_offset=args.planner_seed_offset, split=args.split)
     jobs = []
     for c in columns:   # the same instances and planner seeds for every method
-        own = [m for m in methods if m != ALL_MECHANISMS]
-        common = dict(planner_seed_offset=args.planner_seed_offset, split=args.split)
         jobs += mechanisms.instance_jobs(c.task, own, args.trials, args.seed, args.timeout, fragments[c.task], **common)
-        if ALL_MECHANISMS in methods:
+        if every:
             jobs += mechanisms.instance_jobs(c.task, [ALL_MECHANISMS], args.trials, args.seed, args.timeout, BASIS,
                                              every, **common)
     trials = _run(args, jobs, "mechanisms")

@@ -194,15 +194,19 @@ class _ToNodes(Transformer_NonRecursive):
     constants = _tagged("constants")
     objects = _tagged("objects")
 
-    @v_args(meta=True)
-    def predicates(self, meta, children):
-        out: List[Predicate] = []
+    def _with_runs(self, children, split) -> list:
+        """The children, each run token (lang/runs.py) split into the items it holds."""
+        out = []
         for child in children:
             if isinstance(child, Token):
-                out.extend(split_predicates(self.file, child.value, child.line, child.column))
+                out.extend(split(self.file, child.value, child.line, child.column))
             else:
                 out.append(child)
-        return "predicates", out, self._loc(meta)
+        return out
+
+    @v_args(meta=True)
+    def predicates(self, meta, children):
+        return "predicates", self._with_runs(children, split_predicates), self._loc(meta)
 
     @v_args(meta=True)
     def problem_domain(self, meta, children):
@@ -210,13 +214,7 @@ class _ToNodes(Transformer_NonRecursive):
 
     @v_args(meta=True)
     def init(self, meta, children):
-        out: List[Atom] = []
-        for child in children:
-            if isinstance(child, Token):
-                out.extend(split_atoms(self.file, child.value, child.line, child.column))
-            else:
-                out.append(child)
-        return "init", tuple(out), self._loc(meta)
+        return "init", tuple(self._with_runs(children, split_atoms)), self._loc(meta)
 
     @v_args(meta=True)
     def goal(self, meta, children):

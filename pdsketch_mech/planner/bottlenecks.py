@@ -1,14 +1,11 @@
 """Steps that keep failing from the same contact state: evidence shared between skeletons.
 
 The same step (operator and objects) taken from the same symbolic contact state is the same
-problem in every skeleton that has it: on the Hook-then-Place-on-Slope task, putting the box
-straight on the slope after the hook (the 17th skeleton), laying the box on the slope as the
-*blocker* of the ladle (the 19th), and the same after poking instead of hooking (the 23rd,
-25th) all ask one thing: that the box, held, with the ladle on the table, stay on the slope
-once let go. It slides off every time. The skeleton with the ladle laid across the slope first
-(the 18th) asks it with the ladle on the slope: another state, another question. Each
-skeleton's own failures already cost it its share (its effort, schedule.py); what the others
-learnt about its steps did not, so the four that ask the doomed question took four shares.
+problem in every skeleton that has it: in Hook-then-Place-on-Slope, putting the box straight
+on the slope after the hook, laying it on the slope as the ladle's blocker, and the same after
+poking instead of hooking all ask whether the held box, with the ladle on the table, stays on
+the slope once let go. Each skeleton's own failures already cost it its share (its effort,
+schedule.py); what the others learnt about its steps did not.
 
 `SharedOutcomes` counts, per (step, contact state before it), the simulated outcomes of every
 skeleton; a skeleton's weight is the product over its steps of
@@ -18,15 +15,9 @@ skeleton; a skeleton's weight is the product over its steps of
 where S and F are the step's successes and failures in the *other* skeletons (its own are in
 its effort), never below FLOOR: a step that failed FAILURES_PER_HALVING times elsewhere and
 never worked halves the share of every skeleton that takes it from that state. A skeleton
-not yet created is weighed by everything seen so far, so it comes later when it repeats a
-step that has failed elsewhere. Only simulated values count: a sampler that ran dry says
-more about the scene's continuous state than about the symbolic one (pristine.py).
-
-Measured with learned samplers (bench, 10 dev instances a task, same seeds): on Table 2,
-Hook-then-Place-on-Slope's median 40.2 -> 36.7 s (values 634 -> 622; hook-slope-dev-5
-50.6 -> 33.0 s: the 17th skeleton's work 94 -> 16 units), Push-then-Pick-then-Hook's values
-the same (266); on Table 1, the same values simulated on all 60 trials (one mechanism's
-skeletons rarely repeat a step from the same state).
+not yet created is weighed by everything seen so far. Only simulated values count: a sampler
+that ran dry says more about the scene's continuous state than about the symbolic one
+(pristine.py). Figures: results/HISTORY.md.
 """
 from __future__ import annotations
 

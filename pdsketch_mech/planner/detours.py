@@ -10,19 +10,12 @@ putting it down is how the Hook task is solved without a mechanism); one that ha
 other objects (pushing the tool, lifting a distractor and putting it back) is not.
 
 The FF-guided search yields many unexplained detours: every skeleton comes again with pushes
-of every object in front, and with each object lifted and put back. On Table 1's hook-dev-2
-they were 80 of the 84 skeletons created (5-84), and first slices of those took most of the
-work while the mechanism's own skeleton (the 3rd) waited for its share. A skeleton's share of
-work is multiplied by DETOUR_WEIGHT per unexplained detour (schedule.py): such skeletons still
-come (the planner stays complete: an obstacle may need moving that no dead step names), but
-later and with less work.
-
-Measured with learned samplers on Table 1's dev instances (same seeds; values simulated,
-which the machine's load does not change, geometric means): Hook 112 -> 89, Poking 36 -> 24,
-Lever 39 -> 36 (lever-dev-4 solved in 559 s, unsolved before), the others unchanged; Table
-2's Hook-then-Place-on-Slope 9/10 -> 10/10, median 115 -> 75 s. The price shows where a push
-no failure explains was what worked: hook-dev-1 (a push of the spoon before the hook) 88 ->
-250 values.
+of every object in front, and with each object lifted and put back, and their first slices
+took the work a mechanism's own skeleton needed. A skeleton's share of work is multiplied by
+DETOUR_WEIGHT per unexplained detour (schedule.py): such skeletons still come (the planner
+stays complete: an obstacle may need moving that no dead step names), but later and with
+less work. results/HISTORY.md has the runs that chose it and what it costs where an
+unexplained push was what worked.
 """
 from __future__ import annotations
 

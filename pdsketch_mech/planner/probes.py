@@ -1,24 +1,15 @@
 """Probes: what the learned samplers think of a skeleton's mechanism grounding before it works.
 
 The planner weighs skeletons by how their mechanism groundings score against their rivals
-(promise.py), but a grounding is scored only once its skeleton samples. The first skeleton
-created with a mechanism therefore got work before any rival was looked at: on lever-dev-3
-the 0.5 kg spoon was laid on the plate twice (it tipped the plate too little) before the
-skeleton with an apple as the weight, which the classifiers preferred from its first grasp
-on, was even created. So each upcoming skeleton that begins with a mechanism's first step,
-where that grounding has a rival (another grounding of the mechanism promising the same
-facts, upcoming or scored before), is probed: one batch of the step's proposals scored in
-the scene as it begins, none verified or simulated. A grounding without rivals is not
-probed: a score compared with nothing changes no weight (Center-of-Mass's one grounding cost
-~0.1 s of grasp proposals on its plate).
-
-Measured (`bench samplers NAME --instances 10 --runs 3`, learned runs, values simulated,
-median / geometric mean over 30 runs, without -> with probes): Lever 12 / 17.4 -> 7 / 14.9,
-Hook 30 / 33.3 -> 23 / 28.8, Poking 14 / 18.6 -> 14 / 17.4, Slope-and-Blocker 8 / 13.6 ->
-8 / 13.4, Center-of-Mass the same; Lever on instances 10-19 12 / 14.4 -> 10 / 15.0. A first
-variable's scores say little about some groundings: on lever-dev-2 the grasp classifier
-prefers a fork, which cannot tip the plate, to the 0.5 kg dipper (mass is in no
-classifier's context), and that run went from 26 to 84 values.
+(promise.py), but a grounding is scored only once its skeleton samples, so the first skeleton
+created with a mechanism got work before any rival was looked at. Each upcoming skeleton that
+begins with a mechanism's first step, where that grounding has a rival (another grounding of
+the mechanism promising the same facts, upcoming or scored before), is therefore probed: one
+batch of the step's proposals scored in the scene as it begins, none verified or simulated.
+A grounding without rivals is not probed: a score compared with nothing changes no weight.
+A first variable's scores say little about some groundings (mass is in no classifier's
+context: a light fork can outscore a heavy dipper as a Lever's weight). Figures:
+results/HISTORY.md.
 """
 from __future__ import annotations
 

@@ -10,35 +10,18 @@ where effort_k is the work it has had; the lowest score works next, for one SLIC
 skeleton not yet created competes too, with effort 0: it is created when its score, ENTRY *
 k ** EXPONENT, is the lowest. So skeleton k gets about k ** EXPONENT times less work than
 the first, and reaching the N-th skeleton costs about ENTRY * N * ln N units in all
-(EXPONENT = 1): the Hook task's basis-only tool-use skeleton (the 26th) is refined after
-some hundreds of units (below), while the first skeletons keep the larger share. Measured
-on the Hook task: EXPONENT = 1/2 reaches deep skeletons sooner but starves the hook-use
-mechanism's skeleton (167 s instead of 65 s, seed 0); 3/2 starves the deep ones (basis-only
-unsolved in 90 s; 61 s with 1). ENTRY sets how fast new skeletons come: skeleton 1's share
-of the work is about 1 / ln N whatever ENTRY is, but every new skeleton costs a first SLICE
-of work when it comes, so the smaller ENTRY is against SLICE, the more of the work goes
-into first slices. ENTRY = SLICE: a new skeleton is worth what its first turn costs.
-Measured against ENTRY 1.5 on Table 1's Hook, Lever and Poking dev instances with learned
-samplers (bench mechanisms, 10 trials each, same seeds; values simulated, which the
-machine's load does not change): Hook's median 215 -> 96 values (skeletons created
-40/25/171/62/103 -> 15/12/84/32/8 on the first five), Poking 64 -> 28, Lever 20 -> 20 (but
-lever-dev-4 went from solved in 353 s to unsolved, in 1500 s too: its lever grounding got
-823 units and never tipped the plate far enough to grasp it, and the old schedule had
-reached the skeleton that solved it, after some 250 others, in time). The price: a skeleton
-far down the order comes later (the 107th after ~2000 units instead of ~950, the Hook
-task's basis-only tool-use skeleton, the 26th, after ~350 instead of ~180; tests). Earlier
-measurements with ENTRY 4 / 2 / 1.5 and a first slice of 4: the 5-step two-poke skeleton
-(#107 on a long-tunnel poking problem) created at 181 / 121 / 105 s. Work is counted in
-units (samples drawn and simulated, samplers running dry), never in seconds: the same seed
-gives the same plan whatever the machine's load.
+(EXPONENT = 1). A smaller EXPONENT reaches deep skeletons sooner but starves a mechanism's
+skeleton; a larger one starves the deep ones. ENTRY = SLICE: a new skeleton is worth what its
+first turn costs, so first slices of new skeletons do not take most of the work. Work is
+counted in units (samples drawn and simulated, samplers running dry), never in seconds: the
+same seed gives the same plan whatever the machine's load.
 
 A skeleton's score is divided by its weight: DETOUR_WEIGHT per detour no dead step explains
 (detours.py), times, with learned samplers, how its mechanism groundings compare with the
 best ones in the classifiers' eyes (promise.py), times UNBLOCK_GAIN per prefix it begins
-with that got past a step found dead as the scene began (unblocked.py). A skeleton of weight
-w gets about w times the share of work of its rank. The next few skeletons are looked at
-before one is created (supply.py), and the first with the fewest detours comes next: its
-weight delays its creation too, but one with detours does not hold back those behind it.
+with that got past a step found dead as the scene began (unblocked.py), times the failures
+of its steps elsewhere (bottlenecks.py). A skeleton of weight w gets about w times the share
+of work of its rank. results/HISTORY.md has the runs that chose the constants.
 """
 from __future__ import annotations
 

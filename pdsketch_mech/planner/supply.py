@@ -5,14 +5,12 @@ step found dead (pristine.py) is deferred: kept aside and handed out only once t
 has no more (or the planner's cap is reached). The next WINDOW skeletons are looked at before
 the planner creates one, and it creates the first of those with the fewest unexplained
 detours (detours.py): a skeleton's detours delay its own creation as they lower its share of
-work afterwards, but not the creation of the skeletons behind it. With only the next one
-looked at, one with three detours (weight 1/64) held back every later skeleton: on
-lever-dev-0 the 11th skeleton came at 65 s and the one that solved it, the 22nd (push the
-plate with the spoon: the spoon could not lie on the plate then), at 88 s of 107. The choice reads
-the detours and, with learned samplers, the promise of the skeleton's mechanism groundings
+work afterwards, but not the creation of the skeletons behind it (with only the next one
+looked at, one with three detours held back every later skeleton). The choice reads the
+detours and, with learned samplers, the promise of the skeleton's mechanism groundings
 (promise.py; probed before the skeleton is created, probes.py), not the prefixes: skeletons
-that begin with a prefix past a dead step (unblocked.py, 8x the weight) jumping the queue too
-took the work on lever-dev-4 (15 of them came at once, 66 -> 348 s).
+that begin with a prefix past a dead step (unblocked.py) jumping the queue too took the work
+from the one that solved a Lever instance. Figures: results/HISTORY.md.
 """
 from __future__ import annotations
 

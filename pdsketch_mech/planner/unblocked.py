@@ -9,21 +9,11 @@ do it too. Each such prefix multiplies the share of work of the skeletons that b
 by UNBLOCK_GAIN (schedule.py divides a skeleton's score by its weight), while their ranks
 still reflect only how long they are.
 
-The Hook-then-Place-on-Slope task shows why the evidence is the prefix's, not the
-skeleton's: the composition (hook the box, put it on the table, lay the tool on the slope as a
-blocker, put the box above it) is the 18th skeleton or later, and the 17th hooks the box and
-puts it straight on the slope, where it slides off nearly every time. Weighting only the
-skeleton that first got past the grasp gave that 17th skeleton most of the work on some
-instances; sharing it between all skeletons that begin with the hook lets the one with the
-blocker have its turn.
-
-Measured on Table 2 with learned samplers (bench compose, 10 instances a task, same seeds):
-Push-then-Pick-then-Hook's values simulated 455 -> 142 (geometric mean), median time 42.2 ->
-16.4 s; Hook-then-Place-on-Slope's 800 -> 290 on the nine instances that finished in the
-first run with it (hook-slope-dev-6 stopped). On Table 1 it matters where the weight of a
-Lever instance cannot be grasped where it lies: on lever-dev-4 the skeleton that pushes the
-spoon and then grasps it got the share and solved the plan (242 -> 65 s); elsewhere a dead
-step is a skeleton's last step, and the plan is solved when it simulates.
+The evidence is the prefix's, not the skeleton's: in Hook-then-Place-on-Slope the skeleton
+that hooks the box and puts it straight on the slope (where it slides off) comes before the
+composition with a blocker; weighting only the skeleton that first got past the grasp gave it
+the work, sharing the weight between all skeletons that begin with the hook lets the one
+with the blocker have its turn. Figures: results/HISTORY.md.
 """
 from __future__ import annotations
 
