@@ -3,9 +3,8 @@ from here until `process.install_interrupt_handler`, Ctrl-C ends the process at 
 `interrupted` and status 130. Importing `process` (typing, re, enum, threading) takes about
 10 ms, in which Python's default handler printed a traceback. Only modules the interpreter
 has already loaded, or built in, are used here: sys, os and _signal (the `signal` module
-imports enum, which takes milliseconds)."""
-from __future__ import annotations
-
+imports enum, which takes milliseconds), and no `from __future__` import: the __future__
+module is not loaded at start-up, and importing it is a window of its own."""
 import _signal
 import os
 import sys
@@ -13,7 +12,14 @@ import sys
 EXIT_INTERRUPTED = 130
 
 
-def command_module(argv: list[str] | tuple[str, ...]) -> str | None:
+def _exit_now(signum, frame) -> None:
+    os.write(2, b"interrupted\n")
+    os._exit(EXIT_INTERRUPTED)
+
+
+
+
+def command_module(argv: "list[str] | tuple[str, ...]") -> "str | None":
     """The module run by `python [options] -m MODULE ...` (`sys.orig_argv`), else None."""
     args = iter(argv[1:])
     for arg in args:
@@ -34,12 +40,12 @@ def is_command() -> bool:
     return module is not None and module.split(".")[0] == __package__
 
 
-def _exit_now(signum, frame) -> None:
-    os.write(2, b"interrupted\n")
-    os._exit(EXIT_INTERRUPTED)
-
-
-def install() -> None:
-    """In a command, Ctrl-C exits 130 at once (nothing is held before `main` runs)."""
+def install(previous: object = None) -> None:
+    """In a command, Ctrl-C exits 130 at once (nothing is held before `main` runs). The
+    package's `__init__` sets such a handler as its first statement, for any importer (each
+    bytecode before it is a moment where Python's own handler prints a traceback); in any
+    other importer, `previous`, the handler it had, is put back."""
     if is_command():
         _signal.signal(_signal.SIGINT, _exit_now)
+    elif previous is not None:
+        _signal.signal(_signal.SIGINT, previous)
