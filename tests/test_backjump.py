@@ -7,7 +7,10 @@ import numpy as np
 import pytest
 
 from pdsketch_mech.planner import refine
-from pdsketch_mech.planner.refine import Refinement, Step
+from pdsketch_mech.planner.refine import Refinement
+from pdsketch_mech.planner.skeleton import Step
+
+from plan_fakes import skeleton_of
 
 
 class _Sampler:
@@ -43,7 +46,7 @@ def _search(monkeypatch, place_args, moved):
     world = SimpleNamespace(bodies=bodies, restore=lambda snapshot: None, snapshot=object,
                             moved_since=lambda snapshot, name: name in moved)
     sampler = _Sampler(steps)
-    search = Refinement(steps, start=None, world=world, task=None, sampler=sampler, rng=np.random.default_rng(0))
+    search = Refinement(skeleton_of(steps), start=None, world=world, task=None, sampler=sampler, rng=np.random.default_rng(0))
     search.run(deadline=float("inf"), max_work=60)
     return sampler.simulated
 

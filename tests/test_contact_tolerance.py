@@ -9,7 +9,7 @@ from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import prepare_task
-from pdsketch_mech.planner.refine import mismatch, skeleton_steps
+from pdsketch_mech.planner.skeleton import mismatch, skeleton_steps
 
 from conftest import ROOT
 

@@ -13,10 +13,13 @@ from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.planner.bilevel import prepare_task
 from pdsketch_mech.planner.bindings import StepSampler
-from pdsketch_mech.planner.refine import Refinement, skeleton_steps
+from pdsketch_mech.planner.refine import Refinement
+from pdsketch_mech.planner.skeleton import skeleton_steps
+
 from pdsketch_mech.world.build import build_world
 
 from conftest import ROOT
+from plan_fakes import skeleton_of
 
 BASIS = os.path.join(ROOT, "domains", "basis.pddl")
 PICK_TEXT = open(os.path.join(ROOT, "problems", "pick.pddl")).read()
@@ -90,7 +93,7 @@ def test_a_mechanism_whose_certified_facts_do_not_hold_is_refuted(write_files):
     with build_world(problem) as world:
         world.settle()
         sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, Counter())
-        refinement = Refinement(steps, world.snapshot(), world, task, sampler, np.random.default_rng(0))
+        refinement = Refinement(skeleton_of(steps), world.snapshot(), world, task, sampler, np.random.default_rng(0))
         for _ in range(4):
             assert refinement.run(deadline=float("inf"), max_work=3) is None
     assert any("grab-other: its :certified facts do not hold" in reason for reason in refinement.failures)

@@ -490,7 +490,7 @@ def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():
 def test_the_mechanism_steps_know_their_variables():
     from pdsketch_mech.lang.loader import load_problem
     from pdsketch_mech.planner.bilevel import prepare_task
-    from pdsketch_mech.planner.refine import skeleton_steps
+    from pdsketch_mech.planner.skeleton import skeleton_steps
     dom = load_domain([os.path.join(ROOT, "domains", "mechanisms", "hook-use.pddl")])
     _, problem = load_problem(os.path.join(ROOT, "problems", "hook-use.pddl"), [dom])
     task, _ = prepare_task(dom, problem, use_mechanisms=True)

@@ -9,13 +9,14 @@ from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import bilevel_plan, prepare_task
+from pdsketch_mech.planner.evidence import DEAD_AFTER, Evidence
+from pdsketch_mech.planner.skeleton import Step, fixed_objects, pristine_keys
 from pdsketch_mech.planner.supply import skeleton_order
-from pdsketch_mech.planner.pristine import DEAD_AFTER, PristineFailures, fixed_objects, pristine_keys
-from pdsketch_mech.planner.refine import Step
 from pdsketch_mech.symbolic.skeletons import iter_skeletons
 from pdsketch_mech.world.build import build_world
 
 from conftest import ROOT
+from plan_fakes import empty_evidence, skeleton_of
 
 BASIS = os.path.join(ROOT, "domains", "basis.pddl")
 MECHANISMS = [os.path.join(ROOT, "domains", "mechanisms", f"{m}.pddl")
@@ -35,7 +36,7 @@ def test_a_step_is_pristine_until_an_earlier_step_touches_one_of_its_movable_obj
 
 
 def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasible():
-    memo = PristineFailures()
+    memo = empty_evidence()
     grasp, push = ("grasp", ("box", "table")), ("transit-cont", ("box", "table"))
     for _ in range(DEAD_AFTER - 1):
         assert not memo.ran_dry(grasp)
@@ -51,7 +52,7 @@ def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasi
 
 @pytest.fixture(scope="module")
 def hook_slope():
-    """Hook-then-Place-on-Slope, test instance 0: a box beyond reach, a ladle, a brick."""
+    """Hook-then-Place-on-Slope, dev instance 0: a box beyond reach, a ladle, a brick."""
     problem = parse_text(sample(TASKS["hook-slope"], "dev", 0).problem_text(), "hook-slope-dev-0.pddl")
     loaded = load_domain([BASIS] + MECHANISMS)
     return loaded, problem
@@ -65,9 +66,8 @@ def test_fixed_objects_are_read_from_the_initial_state(hook_slope):
 
 def test_once_the_box_is_found_dead_where_it_lies_the_hook_and_put_back_comes_early(hook_slope):
     # Symbolically the hook and the put-back return to the initial state. Plain, the search
-    # cuts that path off among the no-op pushes into that state (not in the first 30 000
-    # skeletons, measured); once grasping the untouched box is dead, paths that would repeat
-    # it wait and the box's handling tells paths apart: rank 139 (58 once pushing it is dead too).
+    # cuts that path off among the no-op pushes into that state; once grasping the untouched
+    # box is dead, paths that would repeat it wait and the box's handling tells paths apart.
     loaded, problem = hook_slope
     task, _ = prepare_task(loaded, problem)
     wanted = "(hook-use tool target table) (place target table"
@@ -79,8 +79,8 @@ def test_once_the_box_is_found_dead_where_it_lies_the_hook_and_put_back_comes_ea
                 return k
         return None
     assert rank(skeleton_order(task), 1500) is None
-    memo = PristineFailures()
-    skeletons = skeleton_order(task, memo=memo)
+    memo = Evidence(task)
+    skeletons = skeleton_order(task, evidence=memo)
     for _ in range(DEAD_AFTER):
         memo.ran_dry(("grasp", ("target", "table")))
     assert rank(skeletons, 1500) is not None
@@ -90,8 +90,8 @@ def test_once_the_box_is_found_dead_where_it_lies_the_hook_and_put_back_comes_ea
 def test_an_operator_is_blocked_only_where_its_dead_step_is_still_pristine(hook_slope):
     loaded, problem = hook_slope
     task, _ = prepare_task(loaded, problem)
-    memo = PristineFailures()
-    masks = memo.attach(task)
+    memo = Evidence(task)
+    masks = memo.masks
     for _ in range(DEAD_AFTER):
         memo.ran_dry(("grasp", ("target", "table")))
     ops = {op.label: i for i, op in enumerate(task.operators)}
@@ -143,15 +143,15 @@ def _refinement(sampler, memo):
     from pdsketch_mech.planner.refine import Refinement
     world = SimpleNamespace(restore=lambda snapshot: None)
     steps = [_step("grasp", "spoon", "table", "#g1")]
-    return Refinement(steps, start=None, world=world, task=SimpleNamespace(fact_ids={}), sampler=sampler,
-                      rng=np.random.default_rng(0), pristine=pristine_keys(steps, {"table"}), memo=memo)
+    return Refinement(skeleton_of(steps, fixed={"table"}), start=None, world=world, task=SimpleNamespace(fact_ids={}),
+                      sampler=sampler, rng=np.random.default_rng(0), evidence=memo)
 
 
 def test_one_dry_visit_of_the_first_step_does_not_end_a_skeleton_until_the_step_is_dead():
-    lucky = _refinement(_DryFirst(dry=1), PristineFailures())
+    lucky = _refinement(_DryFirst(dry=1), empty_evidence())
     assert lucky.run(deadline=float("inf"), max_work=1) is None and not lucky.exhausted
     # never feasible: dead after DEAD_AFTER dry visits, and only then is the skeleton over
-    memo = PristineFailures()
+    memo = empty_evidence()
     hopeless = _refinement(_DryFirst(dry=10 ** 6), memo)
     for visit in range(1, DEAD_AFTER + 1):
         hopeless.run(deadline=float("inf"), max_work=1)
@@ -171,13 +171,13 @@ def test_a_dead_step_met_again_with_its_objects_where_they_began_is_not_sampled(
     import numpy as np
 
     from pdsketch_mech.planner.refine import Refinement
-    memo = PristineFailures()
+    memo = empty_evidence()
     memo.bits = {"tool": 0, "box": 1}
     steps = [_step("place", "tool", "box", "#p1"), _step("grasp", "box", "table", "#g2")]
     moved = set()
     world = SimpleNamespace(moved_since=lambda snapshot, name: name in moved)
-    refinement = Refinement(steps, start=None, world=world, task=SimpleNamespace(fact_ids={}), sampler=None,
-                            rng=np.random.default_rng(0), pristine=pristine_keys(steps, {"table"}), memo=memo)
+    refinement = Refinement(skeleton_of(steps, fixed={"table"}), start=None, world=world,
+                            task=SimpleNamespace(fact_ids={}), sampler=None, rng=np.random.default_rng(0), evidence=memo)
     assert refinement.pristine[1] is None                # the place touched the box symbolically
     assert not refinement._dead_where_it_began(1)        # nothing is dead yet
     for _ in range(DEAD_AFTER):

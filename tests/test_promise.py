@@ -9,9 +9,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pdsketch_mech.planner import schedule
 from pdsketch_mech.planner.bindings import StepSampler
-from pdsketch_mech.planner.promise import FLOOR, GroundingPromise
+from pdsketch_mech.planner.evidence import FLOOR
+from pdsketch_mech.planner.promise import GroundingPromise
 from pdsketch_mech.samplers.interface import SampleRequest, StepContext
 
 from learned_data import AllVerify
@@ -21,18 +21,25 @@ TOOL, APPLE, TOOL_AS_TARGET = ("hook", ("tool", "box", "table")), ("hook", ("app
 HOLD_BOX, HOLD_TOOL = ((1, 0),), ((2, 0),)   # what each grounding promises (certified masks)
 
 
+def weight(promise, groundings):
+    """The factor the groundings give a skeleton's estimate (evidence.py), once the planner
+    has registered them as rivals."""
+    promise.register(groundings)
+    return max(FLOOR, math.exp(min(0.0, sum(promise.gap(g, p) for g, p in set(groundings)))))
+
+
 def test_a_grounding_scored_below_its_rival_is_held_back_by_the_gap():
     promise = GroundingPromise()
     for best in (-1.0, -2.0):                    # two batches each: means -1.5 and -3.5
         promise.observe(*TOOL, "?g", best)
         promise.observe(*APPLE, "?g", best - 2.0)
-    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
-    assert promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
+    assert weight(promise, [(TOOL, HOLD_BOX)]) == 1.0
+    assert weight(promise, [(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
     promise.observe(*APPLE, "?c", -12.0)          # a variable only the apple reached: no rival yet
-    assert promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
+    assert weight(promise, [(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
     promise.observe(*TOOL, "?c", -1.0)            # now there is, and the gap is large: the floor
-    assert promise.weight([(APPLE, HOLD_BOX)]) == FLOOR
-    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
+    assert weight(promise, [(APPLE, HOLD_BOX)]) == FLOOR
+    assert weight(promise, [(TOOL, HOLD_BOX)]) == 1.0
 
 
 def test_rivals_are_compared_on_the_sum_over_the_variables_both_were_scored_on():
@@ -42,8 +49,8 @@ def test_rivals_are_compared_on_the_sum_over_the_variables_both_were_scored_on()
     promise.observe(*APPLE, "?g", -1.0)
     promise.observe(*TOOL, "?c", -1.0)
     promise.observe(*APPLE, "?c", -3.5)
-    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
-    assert promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-1.5))
+    assert weight(promise, [(TOOL, HOLD_BOX)]) == 1.0
+    assert weight(promise, [(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-1.5))
 
 
 def test_groundings_that_promise_other_facts_are_not_rivals():
@@ -52,30 +59,18 @@ def test_groundings_that_promise_other_facts_are_not_rivals():
     promise = GroundingPromise()
     promise.observe(*TOOL, "?g", -3.0)
     promise.observe(*TOOL_AS_TARGET, "?g", -0.1)
-    assert promise.weight([(TOOL, HOLD_BOX)]) == 1.0
-    assert promise.weight([(TOOL_AS_TARGET, HOLD_TOOL)]) == 1.0
+    assert weight(promise, [(TOOL, HOLD_BOX)]) == 1.0
+    assert weight(promise, [(TOOL_AS_TARGET, HOLD_TOOL)]) == 1.0
     promise.observe(*APPLE, "?g", -5.0)
     # A skeleton with two groundings pays for both gaps.
-    assert promise.weight([(TOOL_AS_TARGET, HOLD_TOOL), (APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
+    assert weight(promise, [(TOOL_AS_TARGET, HOLD_TOOL), (APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-2.0))
 
 
 def test_unscored_groundings_and_non_finite_scores_change_nothing():
     promise = GroundingPromise()
-    assert promise.weight([]) == 1.0 and promise.weight([(APPLE, HOLD_BOX)]) == 1.0
+    assert weight(promise, []) == 1.0 and weight(promise, [(APPLE, HOLD_BOX)]) == 1.0
     promise.observe(*APPLE, "?g", -math.inf)     # a batch of proposals with no encoding
     assert promise.mean(APPLE, "?g") is None
-
-
-def test_a_skeleton_gets_about_its_weight_times_the_work_of_its_rank():
-    efforts = {1: 0, 2: 0}
-    weights = {1: 1.0, 2: 0.1}
-    for _ in range(2000):
-        turn = schedule.next_turn(((r, e, weights[r]) for r, e in efforts.items()), None)
-        efforts[turn] += schedule.SLICE
-    # rank 2 alone would get half of rank 1's work; weighed by 0.1, a twentieth
-    assert efforts[2] / efforts[1] == pytest.approx(0.05, rel=0.2)
-    # and a weight of 1 is the unweighted schedule
-    assert schedule.next_turn([(1, 8, 1.0), (2, 2, 1.0)], None) == schedule.next_turn([(1, 8), (2, 2)], None)
 
 
 class ByValue:
@@ -107,9 +102,9 @@ def test_the_step_sampler_tells_the_promise_what_its_learned_samplers_scored():
         request = SampleRequest("sample-grasp", (), (), context)
         assert list(sampler.draw(None, request, np.random.default_rng(0), budget=4))
     assert steps.promise.mean(TOOL, "?g") == pytest.approx(3.0 - 10.0)   # the batch's best
-    # The planner asks for every active skeleton's weight each turn, which makes them rivals.
-    assert steps.promise.weight([(TOOL, HOLD_BOX)]) == 1.0
-    assert steps.promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
+    # The planner registers every skeleton in view, which makes them rivals.
+    assert weight(steps.promise, [(TOOL, HOLD_BOX)]) == 1.0
+    assert weight(steps.promise, [(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
 
 
 class Counting(AllVerify):
@@ -137,8 +132,8 @@ def test_a_probe_scores_a_grounding_before_its_skeleton_gets_work_and_verifies_n
     for (mechanism, args), g in ((TOOL, "#g1"), (APPLE, "#g2")):
         assert steps.probe(world, StepContext("grasp", (args[0], g), mechanism, args, 0, ((g, "?g"),)), rng)
     assert Counting.verified == 0 and steps.proposals()["learned"] == {}
-    assert steps.promise.weight([(TOOL, HOLD_BOX)]) == 1.0
-    assert steps.promise.weight([(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
+    assert weight(steps.promise, [(TOOL, HOLD_BOX)]) == 1.0
+    assert weight(steps.promise, [(APPLE, HOLD_BOX)]) == pytest.approx(math.exp(-3.0))
     # A basis step (no mechanism) and a variable without a classifier are left alone.
     assert not steps.probe(world, StepContext("grasp", ("tool", "#g1")), rng)
     assert not steps.probe(world, StepContext("grasp", ("tool", "#g1"), "hook", TOOL[1], 0, (("#g1", "?p"),)), rng)
@@ -148,7 +143,7 @@ def test_only_groundings_with_a_rival_are_probed_and_each_skeleton_once():
     """A score compared with nothing changes no weight: a skeleton whose first mechanism step
     has no rival grounding (upcoming or scored before) is not probed; two rivals are, once."""
     from pdsketch_mech.planner.probes import GroundingProbes
-    from pdsketch_mech.planner.refine import Step
+    from pdsketch_mech.planner.skeleton import Skeleton, Step
 
     probed = []
     sampler = SimpleNamespace(promise=GroundingPromise(),
@@ -160,11 +155,15 @@ def test_only_groundings_with_a_rival_are_probed_and_each_skeleton_once():
     def skeleton(op, grounding, promised=HOLD_BOX):
         first = Step("grasp", (grounding[1][0], "#g"), 0, grounding[0], (), 0, grounding[1])
         last = Step("place", (grounding[1][0], "#p"), 0, grounding[0], promised, 1, grounding[1])
-        return [op], [first, last], None
+        return Skeleton(op + 1, [op], [first, last], [None, None], [])
 
-    probes.probe([skeleton(0, TOOL), skeleton(2, TOOL_AS_TARGET, HOLD_TOOL)])
+    def probe(window):
+        sampler.promise.register(g for s in window for g in s.groundings())   # as the planner does
+        probes.probe(window)
+
+    probe([skeleton(0, TOOL), skeleton(2, TOOL_AS_TARGET, HOLD_TOOL)])
     assert probed == []                                   # no rivals: nothing to compare
-    probes.probe([skeleton(0, TOOL), skeleton(1, APPLE), skeleton(2, TOOL_AS_TARGET, HOLD_TOOL)])
+    probe([skeleton(0, TOOL), skeleton(1, APPLE), skeleton(2, TOOL_AS_TARGET, HOLD_TOOL)])
     assert probed == [TOOL[1], APPLE[1]] and probes.count == 2
-    probes.probe([skeleton(0, TOOL), skeleton(1, APPLE)])
+    probe([skeleton(0, TOOL), skeleton(1, APPLE)])
     assert probes.count == 2                              # each skeleton once

@@ -16,7 +16,9 @@ from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner import bindings
 from pdsketch_mech.planner.bilevel import prepare_task
 from pdsketch_mech.planner.execute import run_step
-from pdsketch_mech.planner.refine import Refinement, skeleton_steps
+from pdsketch_mech.planner.refine import Refinement
+from pdsketch_mech.planner.skeleton import skeleton_steps
+
 from pdsketch_mech.samplers.contact import ContactSampler
 from pdsketch_mech.samplers.grasp import sample_grasps
 from pdsketch_mech.samplers.interface import Sampler, SampleRequest
@@ -26,6 +28,7 @@ from pdsketch_mech.world.attachment import compose
 from pdsketch_mech.world.build import build_world
 
 from conftest import ROOT
+from plan_fakes import skeleton_of
 
 HOOK_USE = os.path.join(ROOT, "domains", "mechanisms", "hook-use.pddl")
 HOOK_PROBLEM = os.path.join(ROOT, "problems", "hook-use.pddl")
@@ -98,7 +101,7 @@ def test_a_mechanism_step_is_told_its_mechanism_index_poses_and_parents(monkeypa
     with build_world(problem) as world:
         world.settle()
         sampler = bindings.StepSampler({s.name: s for s in domain.domain.streams}, placeholders, Counter())
-        refinement = Refinement(steps, world.snapshot(), world, task, sampler, np.random.default_rng(0))
+        refinement = Refinement(skeleton_of(steps), world.snapshot(), world, task, sampler, np.random.default_rng(0))
         for _ in range(40):
             refinement.run(deadline=float("inf"), max_work=2)
             if requests:

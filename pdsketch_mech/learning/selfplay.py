@@ -42,7 +42,8 @@ from ..lang.parser import parse_text
 from ..planner.bilevel import prepare_task
 from ..planner.bindings import StepSampler
 from ..planner.execute import settle_start
-from ..planner.refine import Refinement, skeleton_steps
+from ..planner.refine import Refinement
+from ..planner.skeleton import Skeleton, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
 from ..samplers.learned.encoding import VALUE_WIDTH, mass_features
@@ -175,7 +176,8 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
         else:
             macro = task.operators[candidates[int(rng.integers(len(candidates)))]]
             objects = tuple(macro.args) + tuple(context_objects(world, macro.args, config.context))
-            steps = skeleton_steps(task, [task.operators.index(macro)])
+            plan = [task.operators.index(macro)]
+            steps = skeleton_steps(task, plan)
             log = SampleLog(world, objects, [[t.name for t in call.args] for call in mechanism.actions],
                             [q.name for q in mechanism.parameters], placeholders)
             sampler = StepSampler({s.name: s for s in loaded.domain.streams}, placeholders, Counter())
@@ -183,7 +185,8 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
             sampler.verify_observers.append(log.verified)
             deadline = started + config.time_limit
             sampler.deadline = deadline
-            search = Refinement(steps, start, world, task, sampler, np.random.default_rng(rng.integers(1 << 63)))
+            skeleton = Skeleton(1, plan, steps, [None] * len(steps), [])
+            search = Refinement(skeleton, start, world, task, sampler, np.random.default_rng(rng.integers(1 << 63)))
             values = None
             while values is None and not search.exhausted and search.effort < config.budget \
                     and time.perf_counter() < deadline:

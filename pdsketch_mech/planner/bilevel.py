@@ -1,13 +1,11 @@
-"""The adaptive bilevel planner: skeletons from the FF-guided symbolic search (with
-optimistic stream placeholders), refined by sampling and simulation.
+"""The adaptive bilevel planner (the paper's Alg. 1 with PDDLStream's adaptive schedule):
+skeletons from the FF-guided symbolic search (with optimistic stream placeholders), refined
+by sampling and simulation.
 
-Adaptive, in PDDLStream's sense: work is shared between refining the skeletons found so far
-and taking new ones from the symbolic search (schedule.py; supply.py hands them out), so a
-skeleton that needs many samples is not starved by the search for new ones, and a deep one
-(a tool use 20 skeletons down) is reached within a bounded amount of work. Skeletons that
-wander (detours.py), mechanism groundings the learned samplers doubt (promise.py; probed
-before their skeletons are created, probes.py) and skeletons whose steps keep failing in
-other skeletons (bottlenecks.py) get less of it.
+One loop: the skeletons in view (the active ones and the next few from the search) are
+scored by one score (schedule.py), the lowest gets the next slice of work (created first if
+it is new), and what its refinement learns goes into one evidence store (evidence.py) that
+every later score reads. docs/planner.md maps it to Alg. 1 and to PDDLStream.
 """
 from __future__ import annotations
 
@@ -26,20 +24,18 @@ from ..symbolic.optimistic import optimistic_problem
 from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
-from .bottlenecks import SharedOutcomes
+from .evidence import Evidence
 from .execute import contact_mask, execute_plan, observed_state, settle_start
 from .macros import add_mechanism_macros
-from .pristine import PristineFailures
 from .probes import GroundingProbes
-from .refine import Refinement, Step, skeleton_groundings
-from .schedule import SLICE, heaviest, next_turn
+from .refine import Refinement
+from .schedule import SLICE, lowest, score
 from .serialize import plan_entries
+from .skeleton import Skeleton, Step
 from .supply import SkeletonSupply
-from .unblocked import UnblockedPrefixes
 
 if TYPE_CHECKING:
     from ..samplers.learned.ranked import LearnedMechanism
-
 
 
 @dataclass
@@ -88,12 +84,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     initial = world.snapshot()
     stats: Dict[str, object] = {"skeletons": 0, "refined": 0, "pruned": 0, "samples": counts,
                                 "operators": len(task.operators), "executions": 0, "rejected": 0,
-                                "symbolic_s": 0.0, "continuous_s": 0.0,
-                                # read when the statistics are finished:
-                                "proposals": sampler.proposals, "simulated": sampler.simulated,
-                                "score_ms": [m.score_seconds for m in (learned or {}).values()],
-                                "shape_ms": [m.shape_seconds for m in (learned or {}).values()],
-                                "trust": sampler.trust, "extrapolation_warnings": sampler.extrapolation_warnings}
+                                "symbolic_s": 0.0, "continuous_s": 0.0}
     sim_start = world.sim_steps
     mismatch = _initial_mismatch(task, world)
     if mismatch:
@@ -104,82 +95,58 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     def in_fresh_world(steps: List[Step], values: List[Dict[str, object]]) -> Optional[str]:
         result = execute_plan(task, problem, plan_entries(steps, values))
         return None if result.goal_reached else f"in a fresh world, {result.message}"
-    memo = PristineFailures(start=start)
-    supply = SkeletonSupply(task, memo, deadline, max_skeletons)
-    unblocked = UnblockedPrefixes()
-    outcomes = SharedOutcomes(task.init, contact_mask(task))
-    active: Dict[int, Refinement] = {}
-    plans: Dict[int, List[int]] = {}
-    created: List[Dict[str, object]] = []   # for the statistics: when each skeleton entered
-    stats["skeleton_log"] = created
-    failures: Counter = Counter()
-
-    def weight(refinement: Refinement) -> float:
-        return (sampler.promise.weight(refinement.groundings()) * supply.weight(plans[refinement.rank])
-                * unblocked.weight(refinement.steps)
-                * outcomes.weight(refinement.outcome_keys, refinement.rank))
-
+    evidence = Evidence(task, sampler.promise, start)
+    supply = SkeletonSupply(task, evidence, deadline, max_skeletons)
     probes = GroundingProbes(task, sampler, world, initial, seed)
-
+    active: Dict[int, Refinement] = {}
+    stats["skeleton_log"] = []
+    failures: Counter = Counter()
     try:
         while time.perf_counter() < deadline:
             window = supply.upcoming()
+            sampler.promise.register(g for skeleton in window for g in skeleton.groundings())
             if sampler.learned:
                 probes.probe(window)
                 stats["probes"] = probes.count
-            # The first upcoming skeleton with the fewest unexplained detours, and the groundings
-            # the learned samplers prefer, comes next (supply.py, promise.py).
-            creation_weights = [supply.weight(plan) * sampler.promise.weight(skeleton_groundings(steps))
-                                for plan, steps, _ in window]
-            chosen = heaviest(creation_weights) if window else 0
-            upcoming_weight = (creation_weights[chosen] * unblocked.weight(window[chosen][1])
-                               * outcomes.weight(outcomes.keys(window[chosen][1])) if window else 1.0)
-            turn = next_turn(((r.rank, r.effort, weight(r)) for r in active.values()),
-                             supply.taken + 1 if window else None, upcoming_weight)
-            if turn is None:
+            # An upcoming skeleton competes as the next rank; among them, the search's order decides ties.
+            rank = supply.taken + 1
+            chosen = lowest([(score(r.rank, r.effort, evidence.estimate(r.skeleton, r.number)), (r.rank,), r)
+                             for r in active.values()]
+                            + [(score(rank, 0, evidence.estimate(s)), (rank, s.order, s.number), s) for s in window])
+            if chosen is None:
                 break
-            if turn not in active:
-                plan, steps, keys = supply.take(chosen)
-                label = " ".join(task.operators[o].label for o in plan)
-                created.append({"rank": turn, "created_s": round(time.perf_counter() - start, 3), "skeleton": label})
-                if chosen:
-                    created[-1]["passed"] = chosen   # skeletons the search found first, left waiting
-                detours = supply.detours(plan)
-                if detours:
-                    created[-1]["detours"] = detours
+            if isinstance(chosen, Skeleton):
+                supply.take(chosen)
+                _log_created(stats, chosen, rank, window, task, evidence, start)
                 # Each skeleton draws from its own generator, seeded by the plan's seed and its
-                # labels: what one skeleton draws does not depend on which others came first
-                # (or were deferred), so a change in the skeleton order does not reshuffle luck.
-                skeleton_rng = np.random.default_rng([seed, zlib.crc32(label.encode())])
-                active[turn] = Refinement(steps, initial, world, task, sampler, skeleton_rng,
-                                          in_fresh_world if validate else None, rank=turn,
-                                          pristine=keys, memo=memo, outcomes=outcomes)
-                plans[turn] = plan
-            refinement = active[turn]
-            t0, deaths = time.perf_counter(), memo.deaths
+                # labels: what one skeleton draws does not depend on which others came first.
+                rng = np.random.default_rng([seed, zlib.crc32(chosen.label(task).encode())])
+                chosen = active[chosen.number] = Refinement(chosen, initial, world, task, sampler, rng,
+                                                            in_fresh_world if validate else None, evidence, rank)
+            refinement, deaths = chosen, evidence.deaths
+            t0 = time.perf_counter()
             values = refinement.run(deadline, SLICE)
             stats["continuous_s"] += time.perf_counter() - t0
-            unblocked.note(refinement.steps, refinement.unblocked)
             if values is not None:
-                del active[turn]
+                del active[refinement.number]
                 for other in active.values():
-                    failures += _retire(other, stats)
-                _final_counts(stats, supply, memo, world.sim_steps - sim_start)
-                return _result("solved", refinement, values, start, stats, failures + refinement.failures)
+                    failures += _retire(other, stats, evidence)
+                _final_counts(stats, supply, evidence, world.sim_steps - sim_start)
+                return _result("solved", refinement, values, start, stats, failures + refinement.failures, evidence)
             if refinement.exhausted:
-                del active[turn]
+                del active[refinement.number]
                 stats["pruned"] += 1
-                failures += _retire(refinement, stats)
-            if memo.deaths > deaths:  # skeletons created before that repeat the dead step wait
-                for rank in [r for r, other in active.items() if memo.blocks(other.pristine)]:
-                    retired = active.pop(rank)
-                    failures += _retire(retired, stats)
-                    supply.defer((plans[rank], list(retired.steps), list(retired.pristine)))
+                failures += _retire(refinement, stats, evidence)
+            if evidence.deaths > deaths:  # skeletons that repeat the dead step wait for the others
+                for number in [n for n, other in active.items() if evidence.blocks(other.pristine)]:
+                    retired = active.pop(number)
+                    failures += _retire(retired, stats, evidence)
+                    supply.defer(retired.skeleton)
     finally:
         world.restore(initial)
     for refinement in active.values():
-        failures += _retire(refinement, stats)
-    _final_counts(stats, supply, memo, world.sim_steps - sim_start)
+        failures += _retire(refinement, stats, evidence)
+    _final_counts(stats, supply, evidence, world.sim_steps - sim_start)
     elapsed = time.perf_counter() - start
     if time.perf_counter() >= deadline:
         reason = f"timed out after {elapsed:.1f} s"
@@ -187,48 +154,70 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         reason = "no plan exists: no sequence of operators reaches the goal symbolically"
     else:
         reason = f"no plan exists: none of the {stats['skeletons']} skeletons could be refined"
-    return PlanResult("unsolved", time_s=elapsed, stats=_finish_stats(stats, failures), reason=reason)
+    return PlanResult("unsolved", time_s=elapsed, stats=_finish_stats(stats, failures, sampler), reason=reason)
 
 
-def _final_counts(stats: Dict[str, object], supply: SkeletonSupply, memo: PristineFailures, sim_steps: int) -> None:
-    stats.update(skeletons=supply.taken, deferred=supply.deferrals, sim_steps=sim_steps, dead_steps=memo.labels())
+def _log_created(stats: Dict[str, object], skeleton: Skeleton, rank: int, window: List[Skeleton],
+                 task: StripsTask, evidence: Evidence, start: float) -> None:
+    """The statistics' entry of a skeleton as it is created: when, what, and what the
+    evidence said of it then."""
+    entry: Dict[str, object] = {"rank": rank, "number": skeleton.number, "created_s": round(time.perf_counter() - start, 3),
+                                "skeleton": skeleton.label(task)}
+    if skeleton.source:
+        entry["basis_only"] = True   # from the search over basis operators alone
+    passed = [s for s in window if s.number < skeleton.number]
+    if passed:
+        entry["passed"] = len(passed)   # skeletons the search found first, left waiting
+    detours = evidence.detours(skeleton.plan)
+    if detours:
+        entry["detours"] = detours
+    stats["skeleton_log"].append(entry)
+
+
+def _final_counts(stats: Dict[str, object], supply: SkeletonSupply, evidence: Evidence, sim_steps: int) -> None:
+    stats.update(skeletons=supply.taken, deferred=supply.deferrals, sim_steps=sim_steps, dead_steps=evidence.labels())
     stats["symbolic_s"] += supply.search_s
 
 
-def _retire(refinement: Refinement, stats: Dict[str, object]) -> Counter:
-    entry = stats["skeleton_log"][refinement.rank - 1]
+def _retire(refinement: Refinement, stats: Dict[str, object], evidence: Evidence) -> Counter:
+    """Close the skeleton's statistics entry (its latest: a deferred skeleton may come twice)."""
+    entry = next(e for e in reversed(stats["skeleton_log"]) if e["number"] == refinement.number)
     entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
     if refinement.unblocked:
         entry["unblocked"] = len(refinement.unblocked)
     if refinement.failures:  # where this skeleton's work went: which step failed, and why
         entry["failures"] = dict(refinement.failures.most_common(4))
-    weight = refinement.sampler.promise.weight(refinement.groundings())
-    if weight < 1.0:  # learned samplers held it back (promise.py)
-        entry["weight"] = round(weight, 3)
+    terms = {k: round(v, 2) for k, v in evidence.log_terms(refinement.skeleton, refinement.number).items() if v}
+    if terms:  # what the evidence said of it last, as natural logs
+        entry["estimate"] = terms
     stats["executions"] += refinement.executions
     stats["refined"] += refinement.executions > 0
     stats["rejected"] += refinement.rejected
     return refinement.failures
 
 
-def _result(status: str, refinement: Refinement, values, start: float, stats, failures) -> PlanResult:
-    _retire(refinement, stats)
-    return PlanResult(status, refinement.steps, values, time.perf_counter() - start, _finish_stats(stats, failures))
+def _result(status: str, refinement: Refinement, values, start: float, stats, failures,
+            evidence: Evidence) -> PlanResult:
+    _retire(refinement, stats, evidence)
+    return PlanResult(status, refinement.steps, values, time.perf_counter() - start,
+                      _finish_stats(stats, failures, refinement.sampler))
 
 
-def _finish_stats(stats: Dict[str, object], failures: Counter) -> Dict[str, object]:
+def _finish_stats(stats: Dict[str, object], failures: Counter, sampler: StepSampler) -> Dict[str, object]:
+    """The statistics as the JSON document has them, with what the samplers recorded."""
     out = dict(stats)
     out["samples"] = dict(sorted(stats["samples"].items()))
     # Per sampler: proposals verified (generic and learned apart) and values in simulated steps.
-    out["proposals"] = stats["proposals"]()
-    out["simulated"] = dict(sorted(stats["simulated"].items()))
-    scores = [t for times in stats["score_ms"] for t in times]
+    out["proposals"] = sampler.proposals()
+    out["simulated"] = dict(sorted(sampler.simulated.items()))
+    learned = sampler.learned.values()
+    scores = [t for m in learned for t in m.score_seconds]
     out["score_ms"] = {"batches": len(scores), "median": round(1000 * float(np.median(scores)), 2) if scores else None,
                        "max": round(1000 * max(scores), 2) if scores else None}
-    shapes = [t for times in stats["shape_ms"] for t in times]
+    shapes = [t for m in learned for t in m.shape_seconds]
     out["shape_ms"] = {"encoded": len(shapes), "total": round(1000 * sum(shapes), 2)}
-    out["trust"] = stats["trust"]()
-    warnings = list(stats.get("warnings", ())) + out.pop("extrapolation_warnings")()
+    out["trust"] = sampler.trust()
+    warnings = list(stats.get("warnings", ())) + sampler.extrapolation_warnings()
     if warnings:
         out["warnings"] = warnings
     out["symbolic_s"] = round(stats["symbolic_s"], 3)

@@ -1,56 +1,40 @@
-"""How the adaptive planner shares work between skeletons, old and new.
+"""The one score by which the adaptive planner chooses what to work on next.
 
-PDDLStream's adaptive algorithm balances creating new skeletons against refining the ones
-it has. Here every skeleton k (in the order the symbolic search produces them: shorter
-and cheaper first) has a priority score
+Every skeleton, created or upcoming, has
 
-    (effort_k + ENTRY) * k ** EXPONENT
+    score = (effort + SLICE) * rank / estimate
 
-where effort_k is the work it has had; the lowest score works next, for one SLICE. The next
-skeleton not yet created competes too, with effort 0: it is created when its score, ENTRY *
-k ** EXPONENT, is the lowest. So skeleton k gets about k ** EXPONENT times less work than
-the first, and reaching the N-th skeleton costs about ENTRY * N * ln N units in all
-(EXPONENT = 1). A smaller EXPONENT reaches deep skeletons sooner but starves a mechanism's
-skeleton; a larger one starves the deep ones. ENTRY = SLICE: a new skeleton is worth what its
-first turn costs, so first slices of new skeletons do not take most of the work. Work is
-counted in units (samples drawn and simulated, samplers running dry), never in seconds: the
-same seed gives the same plan whatever the machine's load.
+where rank is the order in which skeletons were created (the search's order, shorter and
+cheaper skeletons first, unless the evidence passed one over), effort the work units it has
+had, and estimate the evidence's chance that it is refined relative to one nothing is known
+about (evidence.py, at least FLOOR). The lowest score gets the next SLICE units. The
+upcoming skeletons compete as the next rank (effort 0): the one with the highest estimate is
+created when its score is the lowest, the search's order deciding ties. The same score
+chooses among the upcoming skeletons and shares the work, so skeleton k gets about
+estimate_k / k of the work of the first, and the N-th is created after about SLICE * N ln N
+units when nothing is known.
 
-A skeleton's score is divided by its weight: DETOUR_WEIGHT per detour no dead step explains
-(detours.py), times, with learned samplers, how its mechanism groundings compare with the
-best ones in the classifiers' eyes (promise.py), times UNBLOCK_GAIN per prefix it begins
-with that got past a step found dead as the scene began (unblocked.py), times the failures
-of its steps elsewhere (bottlenecks.py). A skeleton of weight w gets about w times the share
-of work of its rank. results/HISTORY.md has the runs that chose the constants.
+Completeness: an active skeleton's score grows by at least SLICE * rank / (max estimate) per
+turn it gets, while another's is at most (effort + SLICE) * rank / FLOOR: no skeleton waits
+for ever, and every upcoming one is created after finitely many turns. Work is counted in
+units (a value drawn and simulated, a sampler running dry), never in seconds, so the same seed
+gives the same plan whatever the machine's load.
 """
 from __future__ import annotations
 
-from typing import Iterable, Optional, Sequence, Tuple
+from typing import Iterable, Optional, Tuple
 
-ENTRY = 4.0         # work units a new skeleton is worth before it starts: its first SLICE
-EXPONENT = 1.0
-SLICE = 4           # work units per turn
-
-
-def score(rank: int, effort: int, weight: float = 1.0) -> float:
-    return (effort + ENTRY) * rank ** EXPONENT / weight
+SLICE = 3   # work units per turn, values tried at a step before backtracking (refine.py), and
+            # what a new skeleton is worth: a turn is one visit of a step
 
 
-def next_turn(active: Iterable[Tuple[int, ...]], next_rank: Optional[int], next_weight: float = 1.0) -> Optional[int]:
-    """The rank of the skeleton to work on next among `active` (rank, effort[, weight])
-    tuples, or `next_rank` if a new skeleton (of weight `next_weight`) should be created
-    first (None: no more skeletons). Returns None when there is nothing left at all."""
-    best: Optional[Tuple[float, int]] = None
-    for rank, effort, *weight in active:
-        candidate = (score(rank, effort, *weight), rank)
-        if best is None or candidate < best:
-            best = candidate
-    if next_rank is not None and (best is None or score(next_rank, 0, next_weight) <= best[0]):
-        return next_rank
-    return None if best is None else best[1]
+def score(rank: int, effort: int, estimate: float = 1.0) -> float:
+    """Lower works first (module docstring)."""
+    return (effort + SLICE) * rank / estimate
 
 
-def heaviest(weights: Sequence[float]) -> int:
-    """The index of the largest of `weights` (the upcoming skeletons' detour weights), the
-    first (the search's order) on ties."""
-    return max(range(len(weights)), key=lambda i: (weights[i], -i))
+def lowest(candidates: Iterable[Tuple[float, tuple, object]]) -> Optional[object]:
+    """The item of the (score, tie-break, item) candidates with the lowest score, the lowest
+    tie-break on ties (a tuple: rank first); None if there is none."""
+    best = min(candidates, key=lambda c: (c[0], c[1]), default=None)
+    return None if best is None else best[2]

@@ -8,7 +8,7 @@ import numpy as np
 from ..samplers.types import Contact, Grasp, Placement, Trajectory
 
 if TYPE_CHECKING:
-    from .refine import Step
+    from .skeleton import Step
 
 
 def _pose(pose) -> list:

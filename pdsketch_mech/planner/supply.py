@@ -1,128 +1,153 @@
-"""Where the adaptive planner's new skeletons come from, and how much each is worth.
+"""Where the adaptive planner's new skeletons come from.
 
-Skeletons come from the FF-guided symbolic search, in its order. One that repeats a pristine
-step found dead (pristine.py) is deferred: kept aside and handed out only once the search
-has no more (or the planner's cap is reached). The next WINDOW skeletons are looked at before
-the planner creates one, and it creates the first of those with the fewest unexplained
-detours (detours.py): a skeleton's detours delay its own creation as they lower its share of
-work afterwards, but not the creation of the skeletons behind it (with only the next one
-looked at, one with three detours held back every later skeleton). The choice reads the
-detours and, with learned samplers, the promise of the skeleton's mechanism groundings
-(promise.py; probed before the skeleton is created, probes.py), not the prefixes: skeletons
-that begin with a prefix past a dead step (unblocked.py) jumping the queue too took the work
-from the one that solved a Lever instance. Figures: results/HISTORY.md.
+Skeletons come from the FF-guided symbolic search, in its order. To that search a mechanism
+is one operator, so with every mechanism loaded, combinations of mechanisms come before the
+plain plan of a problem that needs none (a tower of blocks). So with mechanisms loaded, a
+second search over the basis operators alone runs beside it, the two taking turns (a
+skeleton both find comes once): the plain plan comes as early as it does without
+mechanisms. The basis-only search stops once a step is found dead where the scene began
+(evidence.py), and what it found but was not handed out is forgotten: the problem needs
+the scene changed first, which is what mechanisms are for, and the full search, which has
+the basis operators too, goes on alone and finds those plans in its own order.
+
+One that repeats a pristine step found dead (evidence.py) is deferred: kept aside and handed
+out only once the searches have no more (or the planner's cap is reached); the searches
+themselves put paths through dead steps last. The next WINDOW skeletons are kept in view, so
+that the schedule can create a later one first when the evidence says it is more promising
+(schedule.py): one skeleton with detours does not hold back the ones behind it.
 """
 from __future__ import annotations
 
 import time
-from typing import Dict, Iterator, List, Optional, Tuple
+from dataclasses import replace
+from typing import Iterator, List, Optional, Set, Tuple
 
 from ..symbolic.skeletons import iter_skeletons
 from ..symbolic.task import StripsTask
-from .detours import detour_weight, unexplained_detours
-from .pristine import PristineFailures, StepKey, fixed_objects, pristine_keys
-from .refine import Step, skeleton_steps
+from .evidence import Evidence
+from .execute import contact_mask
+from .skeleton import Skeleton, fixed_objects, pristine_keys, skeleton_steps, step_contexts, step_questions
 
-# A skeleton as the planner takes it: operator ids, its steps, and their pristine keys.
-Taken = Tuple[List[int], List[Step], List[Optional[StepKey]]]
-
-WINDOW = 8   # skeletons looked at ahead of creating one
+WINDOW = 8   # upcoming skeletons in view for the schedule to choose from
 
 
 def skeleton_order(task: StripsTask, deadline: Optional[float] = None,
-                   memo: Optional[PristineFailures] = None) -> Iterator[List[int]]:
-    """Skeletons in the order the planner takes them from the symbolic search. With `memo`,
-    as refinement finds pristine steps dead (pristine.py): paths that would repeat one wait
+                   evidence: Optional[Evidence] = None) -> Iterator[List[int]]:
+    """Skeletons in the order the planner takes them from the symbolic search. With
+    `evidence`, as refinement finds pristine steps dead: paths that would repeat one wait
     until the others run out, and paths are told apart by which of the objects of dead
     steps they have handled (a box out of reach hooked closer and put back is not the box
     where it lay)."""
-    if memo is None:
+    if evidence is None:
         return iter_skeletons(task, deadline=deadline)
-    masks = memo.attach(task)
-    return iter_skeletons(task, deadline=deadline, handles=masks, relevant=lambda: memo.flagged,
-                          blocked=memo.blocks_operator)
+    return iter_skeletons(task, deadline=deadline, handles=evidence.masks, relevant=lambda: evidence.flagged,
+                          blocked=evidence.blocks_operator)
+
+
+def without_mechanisms(task: StripsTask) -> StripsTask:
+    """The task with its mechanism macros never applicable (operator ids kept): a macro that
+    needs fact 0 both true and false."""
+    never = 1
+    return replace(task, operators=[replace(op, pre=op.pre | never, neg=op.neg | never, add=0, conditional=())
+                                    if op.steps else op for op in task.operators])
 
 
 class SkeletonSupply:
-    """New skeletons for one plan, at most `max_skeletons` from the search, until `deadline`."""
+    """New skeletons for one plan, at most `max_skeletons` handed out, until `deadline`."""
 
-    def __init__(self, task: StripsTask, memo: PristineFailures, deadline: float, max_skeletons: int):
-        self.task, self.memo = task, memo
+    def __init__(self, task: StripsTask, evidence: Evidence, deadline: float, max_skeletons: int):
+        self.task, self.evidence = task, evidence
         self.deadline, self.max_skeletons = deadline, max_skeletons
-        self._search = skeleton_order(task, deadline, memo)
+        self._searches = [skeleton_order(task, deadline, evidence)]
+        if task.facts and any(op.steps for op in task.operators):
+            self._searches.append(skeleton_order(without_mechanisms(task), deadline, evidence))
+        self._yielded = [0] * len(self._searches)   # plans each search has yielded: their order
+        self._turn = 0                          # which search yields next
+        self._seen: Set[Tuple[int, ...]] = set()
         self._fixed = fixed_objects(task)
+        self._observable = contact_mask(task)
         self._more = True                       # the search may have more
-        self._deferred: List[Taken] = []        # in the order they were found
-        self._window: List[Taken] = []          # the next ones, looked at (upcoming)
-        self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}  # plan -> (flagged, detours)
+        self._deferred: List[Skeleton] = []     # in the order they were found
+        self._window: List[Skeleton] = []       # the next ones from the search
+        self.found = 0                          # skeletons found so far (their numbers)
         self.taken = 0                          # skeletons handed out
         self.deferrals = 0                      # skeletons set aside (statistics)
         self.search_s = 0.0                     # time in the symbolic search
 
-    def upcoming(self) -> List[Taken]:
+    def upcoming(self) -> List[Skeleton]:
         """The skeletons `take` chooses from: the next WINDOW from the search (fewer near the
-        cap) that repeat no dead pristine step, in its order; once the search has no more
-        (or the cap is reached), the first deferred one."""
+        cap) that repeat no dead pristine step; once the search has no more (or the cap is
+        reached), the first deferred one."""
         t0 = time.perf_counter()
+        if len(self._searches) > 1 and self._searches[1] is not None and self.evidence.deaths:
+            self._stop_basis_only()   # a step is dead where the scene began (module docstring)
         if self._searching():  # a step of one may have died since it was looked at
-            blocked = [self.memo.blocks(t[2]) for t in self._window]
-            for taken in (t for t, dead in zip(self._window, blocked) if dead):
-                self.defer(taken)
-            self._window = [t for t, dead in zip(self._window, blocked) if not dead]
+            for skeleton in [s for s in self._window if self.evidence.blocks(s.pristine)]:
+                self._window.remove(skeleton)
+                self.defer(skeleton)
         del self._window[max(0, self.max_skeletons - self.taken):]   # the cap counts what is handed out
         while len(self._window) < min(WINDOW, self.max_skeletons - self.taken):
-            taken = self._next()
-            if taken is None:
+            skeleton = self._next()
+            if skeleton is None:
                 break
-            self._window.append(taken)
+            self._window.append(skeleton)
         self.search_s += time.perf_counter() - t0
         return list(self._window) if self._window else self._deferred[:1]
 
-    def peek(self) -> Optional[Taken]:
-        """The first of the upcoming skeletons, None if there is none."""
-        window = self.upcoming()
-        return window[0] if window else None
-
-    def take(self, index: int = 0) -> Optional[Taken]:
-        """Hand out the `index`-th upcoming skeleton (None if there is none)."""
-        window = self.upcoming()
-        if index >= len(window):
-            return None
+    def take(self, skeleton: Skeleton) -> None:
+        """Hand out `skeleton`, one of `upcoming()`."""
         self.taken += 1
-        return self._window.pop(index) if self._window else self._deferred.pop(0)
+        if skeleton in self._window:
+            self._window.remove(skeleton)
+        else:
+            self._deferred.remove(skeleton)
 
-    def defer(self, taken: Taken) -> None:
+    def defer(self, skeleton: Skeleton) -> None:
         """Set a skeleton aside until the search has no more (an active one whose pristine
         step died is handed back this way)."""
-        self._deferred.append(taken)
+        self._deferred.append(skeleton)
         self.deferrals += 1
 
-    def detours(self, plan: List[int]) -> int:
-        """The plan's unexplained detours given the steps dead so far (detours.py)."""
-        key = tuple(plan)
-        known = self._detours.get(key)
-        if known is None or known[0] != self.memo.flagged:
-            count = unexplained_detours(self.task, plan, self.memo.masks, self.memo.flagged)
-            known = self._detours[key] = (self.memo.flagged, count)
-        return known[1]
+    def _next_plan(self) -> Optional[Tuple[List[int], int, int]]:
+        """The next plan from the searches in turn, none twice, with its place in the order
+        of the search that found it and which search that was (None: all are done)."""
+        while any(search is not None for search in self._searches):
+            self._turn %= len(self._searches)
+            turn = self._turn
+            self._turn += 1
+            plan = None if self._searches[turn] is None else next(self._searches[turn], None)
+            if plan is None:
+                self._searches[turn] = None   # done (kept in place: the index names the search)
+                continue
+            self._yielded[turn] += 1
+            if tuple(plan) not in self._seen:
+                self._seen.add(tuple(plan))
+                return plan, self._yielded[turn], turn
+        return None
 
-    def weight(self, plan: List[int]) -> float:
-        return detour_weight(self.detours(plan))
+    def _stop_basis_only(self) -> None:
+        self._searches[1] = None
+        for skeleton in [s for s in self._window + self._deferred if s.source]:
+            (self._window if skeleton in self._window else self._deferred).remove(skeleton)
+            self._seen.discard(tuple(skeleton.plan))
 
     def _searching(self) -> bool:
         return self._more and self.taken < self.max_skeletons and time.perf_counter() < self.deadline
 
-    def _next(self) -> Optional[Taken]:
+    def _next(self) -> Optional[Skeleton]:
         """The next skeleton from the search that repeats no dead pristine step (None when
         the search has no more or the cap is reached)."""
         while self._searching():
-            plan = next(self._search, None)
-            if plan is None:
+            found = self._next_plan()
+            if found is None:
                 self._more = False
                 break
+            plan, order, source = found
+            self.found += 1
             steps = skeleton_steps(self.task, plan)
-            keys = pristine_keys(steps, self._fixed)
-            if not self.memo.blocks(keys):
-                return plan, steps, keys
-            self.defer((plan, steps, keys))
+            skeleton = Skeleton(order, plan, steps, pristine_keys(steps, self._fixed), step_contexts(steps), self.found,
+                                source, step_questions(steps, self.task.init, self._observable))
+            if not self.evidence.blocks(skeleton.pristine):
+                return skeleton
+            self.defer(skeleton)
         return None

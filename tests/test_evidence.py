@@ -1,0 +1,184 @@
+"""The planner's one store of evidence (planner/evidence.py): outcomes shared between
+skeletons that ask the scene the same question (the same step after the same steps), dead
+pristine steps, detours, and the estimate they give a skeleton."""
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from pdsketch_mech.planner import refine
+from pdsketch_mech.planner.evidence import FLOOR, UNBLOCK_GAIN, Evidence
+from pdsketch_mech.planner.refine import Refinement
+from pdsketch_mech.planner.skeleton import Step
+
+from plan_fakes import OneValueSampler, hook_steps, skeleton_of, still_world
+
+HELD, TOOL_ON_TABLE, TOOL_ON_SLOPE = 0b001, 0b010, 0b100
+INIT = TOOL_ON_TABLE
+
+
+def _evidence() -> Evidence:
+    """A store for a task with no operators (the skeletons below are written by hand)."""
+    task = SimpleNamespace(operators=[], facts=[], init=0, static_facts=[], successor=None)
+    return Evidence(task)
+
+
+def _sk(steps, rank):
+    return skeleton_of(steps, rank)
+
+
+def _straight_on(rank=17):
+    """Hold the box, put it on the slope with the tool on the table (it slides off)."""
+    return _sk([Step("grasp", ("box", "table", "#g1"), HELD | TOOL_ON_TABLE),
+                Step("place", ("box", "slope", "#p1"), TOOL_ON_TABLE)], rank)
+
+
+def _box_as_blocker(rank=19):
+    """Another skeleton asking the same: the box on the slope, the tool still on the table."""
+    return _sk([Step("grasp", ("box", "table", "#g2"), HELD | TOOL_ON_TABLE),
+                Step("place", ("box", "slope", "#p2"), TOOL_ON_TABLE),
+                Step("grasp", ("tool", "table", "#g3"), HELD)], rank)
+
+
+def _tool_first(rank=18):
+    """The box put on the slope once the tool lies across it: another state before the place."""
+    return _sk([Step("place", ("tool", "slope", "#p3"), TOOL_ON_SLOPE),
+                Step("grasp", ("box", "table", "#g4"), HELD | TOOL_ON_SLOPE),
+                Step("place", ("box", "slope", "#p4"), TOOL_ON_SLOPE)], rank)
+
+
+def _outcomes(evidence, skeleton, index, ok, times):
+    for _ in range(times):
+        evidence.simulated(skeleton, index, ok)
+
+
+def test_failures_in_one_skeleton_lower_the_estimate_of_another_asking_the_same():
+    """The chance that the step is not dead in that context, against the prior 1/2, with
+    the rate at which the step works where it has worked (here: with the tool on the slope)."""
+    evidence = _evidence()
+    _outcomes(evidence, _tool_first(), 2, False, 8)
+    _outcomes(evidence, _tool_first(), 2, True, 1)
+    _outcomes(evidence, _straight_on(), 1, False, 8)
+    unlucky = (1 - 2 / 11) ** 8                   # works at (1 + 1) / (9 + 2) where it works
+    assert evidence.estimate(_box_as_blocker()) == pytest.approx(2 * unlucky / (1 + unlucky))
+    assert evidence.estimate(_box_as_blocker(), owner=19) == evidence.estimate(_box_as_blocker())
+
+
+def test_a_step_that_has_worked_nowhere_is_judged_by_how_often_steps_work_where_they_do():
+    evidence = _evidence()
+    _outcomes(evidence, _tool_first(), 0, True, 3)     # another step: 3 of 4 where it works
+    _outcomes(evidence, _tool_first(), 0, False, 1)
+    _outcomes(evidence, _straight_on(), 1, False, 2)
+    unlucky = (1 - 4 / 6) ** 2
+    assert evidence.estimate(_box_as_blocker()) == pytest.approx(2 * unlucky / (1 + unlucky))
+
+
+def test_a_skeletons_own_outcomes_do_not_count_twice():
+    evidence = _evidence()
+    _outcomes(evidence, _straight_on(), 1, False, 40)
+    assert evidence.estimate(_straight_on(), owner=17) == 1.0
+
+
+def test_the_same_step_after_other_steps_is_another_question():
+    evidence = _evidence()
+    _outcomes(evidence, _straight_on(), 1, False, 40)
+    assert evidence.estimate(_tool_first(), owner=18) == 1.0
+
+
+def test_a_step_dead_where_it_lies_that_works_in_another_context_lifts_skeletons_that_begin_alike():
+    """The grasp of a box out of reach runs dry where the box lies; after a hook it works.
+    Skeletons that begin with the hook get UNBLOCK_GAIN, the one that got past too; a step
+    that is merely easy here (the grasp of the tool) lifts nothing."""
+    evidence = _evidence()
+    where_it_lies = _sk([Step("grasp", ("box", "table", "#g"), HELD)], 5)
+    for _ in range(10):
+        evidence.ran_dry(("grasp", ("box", "table")))
+    assert evidence.is_dead("grasp", ("box", "table"))
+    hooked = skeleton_of(hook_steps(Step("place", ("box", "slope", "#p"), 0)), 17)
+    for index in range(3):
+        _outcomes(evidence, hooked, index, True, 3)
+    blocker = skeleton_of(hook_steps(Step("place", ("box", "table", "#p2"), 0)), 18)
+    assert evidence.estimate(blocker) == pytest.approx(UNBLOCK_GAIN)
+    assert evidence.estimate(hooked, owner=17) == pytest.approx(UNBLOCK_GAIN)
+    other = skeleton_of([Step("grasp", ("tool", "table", "#g1"), 0), Step("place", ("tool", "slope", "#p"), 0)], 19)
+    assert evidence.estimate(other) == 1.0               # shares only the easy first step
+    assert evidence.blocks(where_it_lies.pristine)           # where it lies: deferred instead
+
+
+def test_the_estimate_has_a_floor():
+    evidence = _evidence()
+    _outcomes(evidence, _straight_on(), 0, False, 10_000)
+    _outcomes(evidence, _straight_on(), 1, False, 10_000)
+    assert evidence.estimate(_box_as_blocker()) == FLOOR
+
+
+def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasible():
+    evidence = _evidence()
+    box, tool = ("grasp", ("box", "table")), ("grasp", ("tool", "table"))
+    assert not evidence.ran_dry(box) and not evidence.ran_dry(box) and evidence.ran_dry(box)
+    assert evidence.is_dead("grasp", ("box", "table", "#g7")) and evidence.deaths == 1
+    evidence.found(tool)
+    assert not any(evidence.ran_dry(tool) for _ in range(10)) and not evidence.is_dead("grasp", ("tool", "table"))
+    assert evidence.blocks([None, box]) and not evidence.blocks([tool, None])
+    assert not evidence.ran_dry(None)
+
+
+def test_refinement_reports_each_simulated_outcome_under_its_steps_context(monkeypatch):
+    monkeypatch.setattr(refine, "execute_step",
+                        lambda world, snapshot, name, args, values: SimpleNamespace(ok=name == "grasp", reason="slid"))
+    monkeypatch.setattr(refine, "observed_state", lambda task, world: HELD | TOOL_ON_TABLE)
+    monkeypatch.setattr(refine, "contact_mask", lambda task: 0b111)
+    evidence = _evidence()
+    skeleton = _straight_on()
+    sampler = SimpleNamespace(samples=lambda world, context, rng, parents: iter([{"#v": 1}]),
+                              note_simulated=lambda values: None, note_outcome=lambda values, ok: None)
+    search = Refinement(skeleton, None, still_world(), None, sampler, np.random.default_rng(0), evidence=evidence)
+    search.run(deadline=float("inf"), max_work=2)   # the grasp simulates, the place fails
+    grasp, place = skeleton.questions
+    assert evidence.counts(grasp) == (1, 0) and evidence.counts(place) == (0, 1)
+    assert evidence.counts(place, owner=17) == (0, 0)
+
+
+def test_a_dead_grasp_that_simulates_after_a_hook_is_recorded_as_unblocked(monkeypatch):
+    monkeypatch.setattr(refine, "execute_step", lambda *args: SimpleNamespace(ok=True))
+    monkeypatch.setattr(refine, "observed_state", lambda task, world: 0)
+    monkeypatch.setattr(refine, "contact_mask", lambda task: 0)
+    evidence = _evidence()
+    for _ in range(evidence.dead_after):
+        evidence.ran_dry(("grasp", ("box", "table")))
+    steps = hook_steps(Step("place", ("box", "slope", "#p"), 0))
+    search = Refinement(skeleton_of(steps), None, still_world(), None, OneValueSampler(), np.random.default_rng(0),
+                        evidence=evidence)
+    search.run(deadline=float("inf"), max_work=3)
+    assert search.unblocked == {2}
+    assert evidence.counts(search.skeleton.questions[2]) == (1, 0)
+
+
+def test_learned_groundings_enter_the_estimate_as_their_gap_to_the_best_rival():
+    evidence = _evidence()
+    promised = ((1, 0),)
+    weak, strong = ("hook-use", ("apple", "box")), ("hook-use", ("tool", "box"))
+    evidence.promise.register([(weak, promised), (strong, promised)])
+    evidence.promise.observe("hook-use", ("apple", "box"), "?g", math.log(1e-4))
+    evidence.promise.observe("hook-use", ("tool", "box"), "?g", math.log(1e-2))
+    apple = skeleton_of([Step("grasp", ("apple", "table", "#g"), 0, "hook-use", promised, 0, ("apple", "box"))])
+    tool = skeleton_of([Step("grasp", ("tool", "table", "#g"), 0, "hook-use", promised, 0, ("tool", "box"))])
+    assert evidence.estimate(tool) == 1.0
+    assert evidence.estimate(apple) == FLOOR     # 1/100 of the rival's, below the floor
+    assert evidence.log_terms(apple)["groundings"] == pytest.approx(math.log(FLOOR))   # 1/100, bounded
+
+
+def test_the_steps_that_got_past_a_dead_step_lift_every_mechanism_that_takes_it_after_them():
+    """A push made the tool graspable inside a lever; a hook that grasps the tool after the
+    same push shares the gain before its own grasp has worked."""
+    evidence = _evidence()
+    for _ in range(evidence.dead_after):
+        evidence.ran_dry(("grasp", ("tool", "table")))
+    push = Step("transit-cont", ("tool", "table", "#c"), 0)
+    lever = skeleton_of([push, Step("grasp", ("tool", "table", "#g"), HELD, "lever", (), 0, ("tool", "box"))], 4)
+    hook = skeleton_of([push, Step("grasp", ("tool", "table", "#g"), HELD, "hook-use", (), 0, ("tool", "box"))], 3)
+    assert evidence.estimate(hook) == 1.0
+    _outcomes(evidence, lever, 1, True, 1)
+    assert evidence.estimate(hook) == pytest.approx(UNBLOCK_GAIN)
+    assert evidence.estimate(skeleton_of([lever.steps[1]], 9)) == 1.0   # not after the push
