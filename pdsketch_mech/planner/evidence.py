@@ -50,7 +50,8 @@ UNBLOCK_GAIN = 8.0    # a prefix past a step dead as the scene began: the only w
 
 
 class Evidence:
-    """Outcomes by context, dead pristine steps, learned groundings' scores: one store."""
+    """Outcomes by question, ways past dead steps, dead pristine steps, detours, learned
+    groundings' scores: one store (module docstring)."""
 
     def __init__(self, task: StripsTask, promise: Optional[GroundingPromise] = None,
                  start: Optional[float] = None, dead_after: int = DEAD_AFTER, floor: float = FLOOR,
