@@ -7,6 +7,7 @@ OUT=${OUT:-results/test-split}
 PY=${PY:-python}
 W=${WORKERS:-2}
 run() { echo "+ $*" >&2; "$@"; }
+mkdir -p $OUT/samplers
 # Table 1: Macro+Sampler and every mechanism loaded, then Macro (generic samplers), 600 s as the paper.
 run $PY -m pdsketch_mech.bench mechanisms --split test --methods macro+sampler,all-mechanisms --timeout 600 --workers $W --out $OUT/table1 --quiet --resume
 # Table 2: Macro+Sampler, 600 s.
