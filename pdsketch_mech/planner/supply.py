@@ -127,9 +127,9 @@ class SkeletonSupply:
 
     def _stop_basis_only(self) -> None:
         self._searches[1] = None
-        for skeleton in [s for s in self._window + self._deferred if s.source]:
-            (self._window if skeleton in self._window else self._deferred).remove(skeleton)
-            self._seen.discard(tuple(skeleton.plan))
+        self._seen -= {tuple(s.plan) for s in self._window + self._deferred if s.source}
+        self._window = [s for s in self._window if not s.source]
+        self._deferred = [s for s in self._deferred if not s.source]
 
     def _searching(self) -> bool:
         return self._more and self.taken < self.max_skeletons and time.perf_counter() < self.deadline
