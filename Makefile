@@ -5,7 +5,7 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test bench bench-ipc setup clean
+.PHONY: demo test check-wheel bench bench-ipc setup clean
 
 demo: $(STAMP)
 	$(BIN)/python -m pdsketch_mech.check domains/basis.pddl domains/mechanisms/*.pddl problems/*.pddl
@@ -15,6 +15,10 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+# The wheel, installed in a fresh environment outside the checkout, plans the Hook problem.
+check-wheel: $(STAMP)
+	bash .ci/wheel
 
 # A short Table 1: all six tasks, Macro+Sampler, 3 test instances each (reruns resume).
 bench: $(STAMP)
@@ -36,4 +40,4 @@ $(STAMP): setup.cfg pyproject.toml constraints.txt Makefile
 	touch $@
 
 clean:
-	rm -rf $(VENV) *.egg-info .pytest_cache .hypothesis
+	rm -rf $(VENV) *.egg-info .pytest_cache .hypothesis build dist

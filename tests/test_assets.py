@@ -11,7 +11,7 @@ import pybullet as p
 import pytest
 from scipy.spatial import Delaunay
 
-from pdsketch_mech import assets
+from pdsketch_mech.commands import assets
 from pdsketch_mech.world.asset_index import ASSETS_DIR, load_manifest, resolve_asset
 
 CATEGORIES = ["block", "brick", "box", "small-block", "bowl", "plate", "document", "calculator", "caliper",

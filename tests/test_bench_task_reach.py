@@ -10,7 +10,7 @@ import pytest
 
 from pdsketch_mech.bench import reach, tasks
 from pdsketch_mech.bench.__main__ import main
-from pdsketch_mech.bench.plans import Run, make_run, Outcome, skeleton_ops, solving_rank
+from pdsketch_mech.bench.plans import Run, make_run, RunOutcome, skeleton_ops, solving_rank
 from pdsketch_mech.envs.tasks import TASKS
 
 from conftest import ROOT
@@ -166,12 +166,12 @@ def test_solving_rank_basis_and_mechanism_plans():
 
 
 def test_make_run_from_a_crash_and_from_a_document():
-    crashed = make_run("p.pddl", "d.pddl", 0, Outcome({}, None, "Traceback...\nkilled after 90 s"))
+    crashed = make_run("p.pddl", "d.pddl", 0, RunOutcome({}, None, "Traceback...\nkilled after 90 s"))
     assert crashed.status == "crashed" and crashed.reason == "killed after 90 s" and math.isnan(crashed.time_s)
     document = {"status": "unsolved", "reason": "timed out after 10.0 s", "time_s": 10.2, "plan": [],
                 "stats": {"skeletons": 30, "refined": 29, "pruned": 4, "rejected": 1, "samples": {"grasp": 7},
                           "failures": {"grasp: no IK": 5}, "skeleton_log": LOG}}
-    run = make_run("p.pddl", "d.pddl", 1, Outcome(document, 1, ""))
+    run = make_run("p.pddl", "d.pddl", 1, RunOutcome(document, 1, ""))
     assert (run.status, run.skeletons, run.refined, run.pruned, run.rejected, run.rank) == ("unsolved", 30, 29, 4, 1, None)
     assert run.samples == {"grasp": 7} and run.failures == {"grasp: no IK": 5}
 

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from pdsketch_mech import check, plan
+from pdsketch_mech.commands import check, plan
 from pdsketch_mech.bench.big_inputs import ferry_problem, with_objects
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.lang.parser import parse_text

@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from pdsketch_mech import check, plan
+from pdsketch_mech.commands import check, plan
 
 from conftest import ROOT
 

@@ -8,13 +8,13 @@ import os
 import numpy as np
 import pytest
 
-from pdsketch_mech import plan
-from pdsketch_mech import replay as replay_command
+from pdsketch_mech.commands import plan
+from pdsketch_mech.commands import replay as replay_command
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.operators import basis
 from pdsketch_mech.samplers.contact import sample_contacts
 from pdsketch_mech.samplers.trajectory import push_motion
-from pdsketch_mech.samplers.types import Contact, Trajectory
+from pdsketch_mech.world.values import Contact, Trajectory
 from pdsketch_mech.world.build import build_world
 
 from conftest import ROOT

@@ -12,7 +12,8 @@ import time
 
 import pytest
 
-from pdsketch_mech import assets, check, cli, plan, process, render, replay
+from pdsketch_mech.commands import assets, check, common, plan, render, replay
+from pdsketch_mech.util import process
 from pdsketch_mech.bench import __main__ as bench
 
 from conftest import DATA, ROOT
@@ -105,14 +106,14 @@ def test_an_exception_after_ctrl_c_counts_as_the_interrupt(capsys, monkeypatch):
     def main():
         raise TypeError("unsupported operand type(s) for |: 'ExceptionWrapper' and 'NoneType'")
 
-    assert cli.run(main) == 130
+    assert common.run(main) == 130
     assert capsys.readouterr().err == "interrupted\n"
 
 
 def test_without_ctrl_c_an_exception_is_a_bug_and_propagates(monkeypatch):
     monkeypatch.setattr(process, "interrupted", lambda: False)
     with pytest.raises(TypeError):
-        cli.run(lambda: None + 1)
+        common.run(lambda: None + 1)
 
 
 def test_a_library_caller_is_not_a_command():
@@ -176,7 +177,7 @@ def test_ctrl_c_ends_a_run_with_130(delay):
 def test_a_ctrl_c_while_pybullet_loads_still_says_interrupted():
     # PyBullet loads with fds 1 and 2 sent to /dev/null (its banner); a Ctrl-C then ends the
     # process at once, and its line must reach the real stderr (it was lost, 1 run in 3 at 0.3 s).
-    code = ("from pdsketch_mech import process, quiet_pybullet\n"
+    code = ("from pdsketch_mech.util import process, quiet_pybullet\n"
             "with quiet_pybullet.silenced():\n"
             "    process._force_exit()\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=60)
@@ -190,8 +191,8 @@ def test_ctrl_c_at_any_moment_ends_a_run_within_half_a_second(delay):
 
 
 POOL_SCRIPT = ("import multiprocessing, signal, time\n"
-               "from pdsketch_mech import process\n"
-               "from pdsketch_mech.cli import run_and_exit\n"
+               "from pdsketch_mech.util import process\n"
+               "from pdsketch_mech.commands.common import run_and_exit\n"
                "def quiet():\n"
                "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
                "def work(x):\n"
@@ -254,7 +255,7 @@ def test_an_interrupt_during_an_import_is_recognised(tmp_path, monkeypatch):
     once in CI at 0.2 s into `plan` on a fresh clone)."""
     import importlib
     (tmp_path / "probe_import.py").write_text(
-        "import sys\nfrom pdsketch_mech import process\nINSIDE = process._importing(sys._getframe())\n")
+        "import sys\nfrom pdsketch_mech.util import process\nINSIDE = process._importing(sys._getframe())\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     sys.modules.pop("probe_import", None)
     assert importlib.import_module("probe_import").INSIDE is True

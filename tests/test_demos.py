@@ -9,13 +9,14 @@ import re
 import numpy as np
 import pytest
 
-from pdsketch_mech import demo as demo_cli
+from pdsketch_mech.commands import demo as demo_cli
 from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.envs.demos import run as demo_run
 from pdsketch_mech.envs.demos.run import DEMOS, demo_instance, goal_holds, run_demo
 from pdsketch_mech.lang.parser import parse_text
-from pdsketch_mech.learning.recording import (SCHEMA, Recorder, RecordingExists, load_recording, recording_paths,
-                                              save_recording)
+from pdsketch_mech.world.recording import (
+    SCHEMA, Recorder, RecordingExists, load_recording, recording_paths, save_recording,
+)
 from pdsketch_mech.world.build import build_world
 
 from conftest import ROOT
@@ -78,8 +79,9 @@ def test_goal_evaluation_over_contact_facts():
                                        "(:goal (and (exists (?x - item) (support a ?x)) (not (holding a)) "
                                        "(or (handempty) (holding table))))"))
     facts = {("handempty",), ("support", "a", "table")}
-    assert goal_holds(problem.goal, facts, ["table", "a"])
-    assert not goal_holds(problem.goal, {("holding", "a")}, ["table", "a"])
+    assert goal_holds(problem.goal, facts, problem)
+    assert not goal_holds(problem.goal, {("holding", "a")}, problem)
+    assert not goal_holds(problem.goal, {("handempty",), ("support", "a", "floor")}, problem)  # floor: no item
 
 
 def test_a_demo_that_misses_its_goal_fails_in_one_line(monkeypatch, tmp_path, capsys):

@@ -3,13 +3,17 @@ tables are read back exactly as drawn, a damaged or stale entry is drawn again, 
 that cannot be written costs only the work."""
 from __future__ import annotations
 
+import json
 import os
 import shutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
-from pdsketch_mech import disk_cache
+from conftest import ROOT
+from pdsketch_mech.util import disk_cache
 from pdsketch_mech.samplers import geometry
 from pdsketch_mech.samplers.learned import shapes
 from pdsketch_mech.samplers.learned.forward import groupings
@@ -132,3 +136,28 @@ def test_the_parser_reads_its_cached_tables_without_importing_numpy():
     code = "import sys, pdsketch_mech.lang.parser as p; p._lark(); print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+class _Planted:
+    """A pickle that creates a file when unpickled."""
+
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return (open, (self.marker, "w"))
+
+
+def test_the_parsers_cached_tables_are_data_a_planted_pickle_runs_nothing(tmp_path):
+    import pickle
+
+    env = {**os.environ, "PDSKETCH_CACHE": str(tmp_path / "cache")}
+    code = ("from pdsketch_mech.lang.parser import parse_text\n"
+            "print(parse_text('(define (domain d) (:predicates (p)))').name)")
+    first = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env, check=True)
+    [entry] = list((tmp_path / "cache").iterdir())
+    assert json.loads(entry.read_text())["memo"]   # the tables, as JSON
+    marker = tmp_path / "ran"
+    entry.write_bytes(pickle.dumps(_Planted(str(marker))))
+    second = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env, check=True)
+    assert first.stdout == second.stdout == "d\n" and not marker.exists()

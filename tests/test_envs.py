@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pdsketch_mech.envs import TASKS, get_task, sample
-from pdsketch_mech.envs.__main__ import main as envs_main
+from pdsketch_mech.commands.envs import main as envs_main
 from pdsketch_mech.envs.generate import first_overlap
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.nodes import Problem

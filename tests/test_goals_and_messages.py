@@ -8,7 +8,7 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from pdsketch_mech import check, plan
+from pdsketch_mech.commands import check, plan
 from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.planner.bilevel import prepare_task
@@ -134,7 +134,7 @@ def test_a_missing_checkpoint_is_only_a_warning_where_it_would_not_be_loaded(wri
     assert plan.main([fragment, problem_path, "--skeletons", "1"]) == 2
     assert capsys.readouterr().err.strip() == missing.replace("warning", "error").split("; its")[0]
     # render (and replay) never load a checkpoint: a warning, and the picture is drawn.
-    from pdsketch_mech import render
+    from pdsketch_mech.commands import render
     out = os.path.join(os.path.dirname(fragment), "scene.png")
     assert render.main([problem_path, fragment, "--out", out]) == 0 and os.path.isfile(out)
     assert capsys.readouterr().err.splitlines()[0] == missing

@@ -14,7 +14,7 @@ from pdsketch_mech.operators import basis
 from pdsketch_mech.operators.execution import follow_dynamic
 from pdsketch_mech.samplers.grasp import sample_grasps
 from pdsketch_mech.samplers.trajectory import grasp_motion
-from pdsketch_mech.samplers.types import Grasp
+from pdsketch_mech.world.values import Grasp
 from pdsketch_mech.world.asset_index import assets_root, resolve_asset
 from pdsketch_mech.world.attachment import relative_pose
 from pdsketch_mech.world.contacts import read_contacts

@@ -34,7 +34,7 @@ def environment():
     return {**os.environ, "PYTHONPATH": ROOT}
 
 
-@pytest.mark.parametrize("target", ["signal", "pdsketch_mech.process", "typing", "threading", "pdsketch_mech.cli"])
+@pytest.mark.parametrize("target", ["signal", "pdsketch_mech.util.process", "typing", "threading", "pdsketch_mech.commands.common"])
 def test_ctrl_c_while_the_package_imports_exits_130(target):
     done = subprocess.run([sys.executable, "-c", TRIP.format(target=target)], capture_output=True, text=True,
                           cwd=ROOT, env=environment(), timeout=60)

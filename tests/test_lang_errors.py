@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from pdsketch_mech import check
+from pdsketch_mech.commands import check
 
 from conftest import ROOT
 

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from pdsketch_mech import check, plan
+from pdsketch_mech.commands import check, plan
 from pdsketch_mech.lang.errors import PddlError
 from pdsketch_mech.lang.nodes import Loc
 from pdsketch_mech.lang.parser import parse_text

@@ -1,6 +1,6 @@
 """Accepted oddities are one `FILE:LINE:COL: warning: ...` line on stderr, exit 0: a predicate
 declaring a parameter name twice, as real IPC files do (logistics: `(in ?obj ?obj)`)."""
-from pdsketch_mech import check, plan
+from pdsketch_mech.commands import check, plan
 
 DOMAIN = """(define (domain tiny-logistics)
   (:requirements :strips)

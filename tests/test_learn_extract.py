@@ -40,14 +40,14 @@ import sys
 
 import numpy as np
 
-from pdsketch_mech.learning import extract_command
+from pdsketch_mech.commands import learn_extract as extract_command
 from pdsketch_mech.lang import nodes as n
 from pdsketch_mech.lang.loader import load_domain, load_problem, read_domain_file
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.learning.compare import differences, equivalent
 from pdsketch_mech.learning.extract import extract, fragment_text
 from pdsketch_mech.learning.paths import MECHANISMS_DIR
-from pdsketch_mech.learning.recording import load_recording, save_recording
+from pdsketch_mech.world.recording import load_recording, save_recording
 from pdsketch_mech.learning.segmentation import debounce
 from pdsketch_mech.learning.steps import ExtractionError
 

@@ -12,12 +12,12 @@ from dataclasses import replace
 
 import pytest
 
-from pdsketch_mech import demo as demo_cli
+from pdsketch_mech.commands import demo as demo_cli
 from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import read_domain_file
 from pdsketch_mech.learning.extract import extract
 from pdsketch_mech.learning.paths import MECHANISMS_DIR
-from pdsketch_mech.learning.recording import load_recording
+from pdsketch_mech.world.recording import load_recording
 
 from conftest import ROOT
 from test_learn_extract import EXPECTED_STEPS, FRAGMENT, grounded

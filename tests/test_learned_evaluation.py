@@ -9,7 +9,7 @@ import os
 import numpy as np
 import pytest
 
-from pdsketch_mech import learn
+from pdsketch_mech.commands import learn
 from pdsketch_mech.learning.evaluate import ContextScore, score_episodes, summarise
 from pdsketch_mech.learning.sampler_training import TrainConfig, train_mechanism
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import torch
 
-from pdsketch_mech import learn, plan
+from pdsketch_mech.commands import learn, plan
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.learning.sampler_data import param_data, parent_specs
 from pdsketch_mech.learning.sampler_training import TrainConfig, roc_auc, to_batch, train_mechanism
@@ -544,13 +544,13 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
 
 
 def test_bench_samplers_table_compares_medians_overall_and_where_both_solved():
-    from pdsketch_mech.bench.samplers import Trial, table
-    trials = [Trial("a", False, "macro", "solved", 10, {"grasp": 10}, {"grasp": 6}),
-              Trial("a", False, "macro+sampler", "solved", 5, {"grasp": 4}, {"grasp": 2}),
-              Trial("b", True, "macro", "unsolved", 120, {"grasp": 50}, {"grasp": 30}),
-              Trial("b", True, "macro+sampler", "solved", 9, {"grasp": 5}, {"grasp": 3}),
-              Trial("b", True, "macro", "solved", 20, {"grasp": 50}, {"grasp": 30}, seed=1000),   # another run of b
-              Trial("b", True, "macro+sampler", "unsolved", 120, {"grasp": 50}, {"grasp": 30}, seed=1000)]
+    from pdsketch_mech.bench.samplers import SamplerTrial, table
+    trials = [SamplerTrial("a", False, "macro", "solved", 10, {"grasp": 10}, {"grasp": 6}),
+              SamplerTrial("a", False, "macro+sampler", "solved", 5, {"grasp": 4}, {"grasp": 2}),
+              SamplerTrial("b", True, "macro", "unsolved", 120, {"grasp": 50}, {"grasp": 30}),
+              SamplerTrial("b", True, "macro+sampler", "solved", 9, {"grasp": 5}, {"grasp": 3}),
+              SamplerTrial("b", True, "macro", "solved", 20, {"grasp": 50}, {"grasp": 30}, seed=1000),   # another run of b
+              SamplerTrial("b", True, "macro+sampler", "unsolved", 120, {"grasp": 50}, {"grasp": 30}, seed=1000)]
     _, rows, lines = table(trials)
     assert ["all", "macro", "2/3", "15.0", "50.0", "30.0", "grasp 50.0/30.0"] in rows
     assert ["held-out categories", "macro+sampler", "1/2", "9.0", "27.5", "16.5", "grasp 27.5/16.5"] in rows
@@ -569,11 +569,11 @@ def test_bench_samplers_says_as_many_or_more_when_learned_samplers_do_not_save()
 def test_bench_samplers_says_how_few_values_a_plan_through_the_mechanism_can_take():
     """Center-of-Mass's two steps have four continuous parameters: where the generic samplers
     take 4 values, the table says no sampler can take fewer, rather than leave 1.0x unexplained."""
-    from pdsketch_mech.bench.samplers import Trial, fewest_values, table
+    from pdsketch_mech.bench.samplers import SamplerTrial, fewest_values, table
     assert (fewest_values("domains/mechanisms/com.pddl", "com"), fewest_values("domains/mechanisms/lever.pddl", "lever"),
             fewest_values("domains/mechanisms/poking.pddl", "poking")) == (4, 6, 8)
-    trials = [Trial("a", False, "macro", "solved", 1, {"grasp": 12}, {"grasp": 2, "placement": 2}),
-              Trial("a", False, "macro+sampler", "solved", 1, {"grasp": 4}, {"grasp": 2, "placement": 2})]
+    trials = [SamplerTrial("a", False, "macro", "solved", 1, {"grasp": 12}, {"grasp": 2, "placement": 2}),
+              SamplerTrial("a", False, "macro+sampler", "solved", 1, {"grasp": 4}, {"grasp": 2, "placement": 2})]
     assert ("the fewest values a plan through the mechanism's steps simulates: 4 (one per continuous parameter), "
             "1.00x fewer than the generic median (4)") in table(trials, 4)[2][1]
     assert not any(line.startswith("the fewest") for line in table(trials)[2])
@@ -612,11 +612,11 @@ def test_a_push_is_ranked_by_its_distance():
 
 
 def test_the_comparison_goes_into_the_learning_report_once(tmp_path):
-    from pdsketch_mech.bench.samplers import REPORT_HEADING, Trial, add_to_report
+    from pdsketch_mech.bench.samplers import REPORT_HEADING, SamplerTrial, add_to_report
     report = tmp_path / "hook-use.samplers.md"
     report.write_text("# Learned samplers of mechanism `hook-use`\n\n| parameter | AUC |\n|---|---|\n")
-    trials = [Trial("a", False, "macro", "solved", 10, {"grasp": 10, "contact": 40}, {"grasp": 6, "contact": 9}),
-              Trial("a", False, "macro+sampler", "solved", 5, {"grasp": 4, "contact": 12}, {"grasp": 2, "contact": 1})]
+    trials = [SamplerTrial("a", False, "macro", "solved", 10, {"grasp": 10, "contact": 40}, {"grasp": 6, "contact": 9}),
+              SamplerTrial("a", False, "macro+sampler", "solved", 5, {"grasp": 4, "contact": 12}, {"grasp": 2, "contact": 1})]
     png = add_to_report(trials, str(report), "hook-use", "python -m pdsketch_mech.bench samplers hook-use --report",
                         "abc1234")
     assert png == str(tmp_path / "hook-use.samplers-fig8.png") and os.path.getsize(png) > 0
@@ -649,7 +649,7 @@ def test_bench_samplers_report_names_the_seed_load_and_commit_it_was_measured_at
     for suffix in (".safetensors", ".json"):
         shutil.copy(os.path.join("domains", "mechanisms", "com.samplers" + suffix), tmp_path)
     (tmp_path / "com.samplers.md").write_text("# Learned samplers of mechanism `com`\n")
-    trials = [samplers.Trial("a", False, method, "solved", 1.0, {"grasp": 2}, {"grasp": 1})
+    trials = [samplers.SamplerTrial("a", False, method, "solved", 1.0, {"grasp": 2}, {"grasp": 1})
               for method in ("macro", "macro+sampler")]
     monkeypatch.setattr(samplers, "run_samplers", lambda *args, **kwargs: trials)
     monkeypatch.setattr("pdsketch_mech.bench.trials.checkout_commit", lambda: "abc1234")
@@ -676,7 +676,7 @@ def test_planning_with_learned_samplers_does_not_import_torch():
     import sys
     code = ("import sys, glob\n"
             "from pdsketch_mech.lang.loader import load_domain\n"
-            "from pdsketch_mech.planner.plan_command import learned_samplers\n"
+            "from pdsketch_mech.api.planner import learned_samplers\n"
             "loaded = load_domain(['domains/basis.pddl', *sorted(glob.glob('domains/mechanisms/*.pddl'))])\n"
             "learned = learned_samplers(loaded, use_learned=True, use_mechanisms=True)\n"
             "assert len(learned) == 6, sorted(learned)\n"

@@ -8,7 +8,7 @@ off the slope."""
 import glob
 import os
 
-from pdsketch_mech import replay
+from pdsketch_mech.commands import replay
 
 from conftest import ROOT
 

@@ -5,7 +5,7 @@ import subprocess
 import sys
 import time
 
-from pdsketch_mech import plan
+from pdsketch_mech.commands import plan
 
 from conftest import DATA, ROOT
 from test_symbolic import CORRIDOR, corridor_problem

@@ -7,7 +7,7 @@ import time
 import numpy as np
 import pytest
 
-from pdsketch_mech import plan
+from pdsketch_mech.commands import plan
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.operators import basis
 from pdsketch_mech.planner.bilevel import bilevel_plan
@@ -125,7 +125,7 @@ def test_plan_command_json_and_render(tmp_path, capsys):
 def test_replay_command(tmp_path, capsys):
     out = tmp_path / "plan.json"
     assert plan.main([BASIS, problem_path("pick"), "--json", str(out), "--timeout", "60"]) == 0
-    from pdsketch_mech import replay as replay_command
+    from pdsketch_mech.commands import replay as replay_command
     assert replay_command.main([problem_path("pick"), str(out)]) == 0
     assert "the goal holds" in capsys.readouterr().err
     document = json.loads(out.read_text())

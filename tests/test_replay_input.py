@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-from pdsketch_mech import replay
+from pdsketch_mech.commands import replay
 from pdsketch_mech.planner.plan_document import locate
 
 from conftest import ROOT

@@ -23,7 +23,7 @@ from pdsketch_mech.samplers.contact import ContactSampler
 from pdsketch_mech.samplers.grasp import sample_grasps
 from pdsketch_mech.samplers.interface import Sampler, SampleRequest
 from pdsketch_mech.samplers.trajectory import grasp_motion
-from pdsketch_mech.samplers.types import Grasp
+from pdsketch_mech.world.values import Grasp
 from pdsketch_mech.world.attachment import compose
 from pdsketch_mech.world.build import build_world
 

@@ -240,7 +240,7 @@ def test_cli_runs_and_resumes(tmp_path):
 def test_the_log_keeps_rejected_proposals_and_each_values_proposal():
     from pdsketch_mech.learning.selfplay_record import SampleLog
     from pdsketch_mech.samplers.interface import SampleRequest, StepContext
-    from pdsketch_mech.samplers.types import Grasp
+    from pdsketch_mech.world.values import Grasp
 
     class Still:
         def pose(self, name):
@@ -274,7 +274,7 @@ def com_copy(tmp_path):
 
 def learn_main(capsys, *argv) -> tuple:
     """`learn` in this process (the fragment parsed afresh): (exit status, stderr)."""
-    from pdsketch_mech import learn
+    from pdsketch_mech.commands import learn
     from pdsketch_mech.learning.selfplay import _domain
     _domain.cache_clear()  # a fresh process would read the edited fragment
     capsys.readouterr()

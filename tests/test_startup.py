@@ -21,19 +21,30 @@ def loaded_heavy_modules(code: str):
 
 
 def test_importing_plan_and_check_loads_nothing_heavy():
-    assert loaded_heavy_modules("import pdsketch_mech.plan, pdsketch_mech.check") == "[]"
+    assert loaded_heavy_modules("import pdsketch_mech.commands.plan, pdsketch_mech.commands.check") == "[]"
 
 
 def test_checking_and_planning_classical_files_loads_nothing_heavy():
-    code = (f"from pdsketch_mech import check, plan\n"
+    code = (f"from pdsketch_mech.commands import check, plan\n"
             f"assert check.main({BLOCKS!r}) == 0 and plan.main({BLOCKS!r}) == 0")
     assert loaded_heavy_modules(code) == "[]"
 
 
-def test_pybullet_loads_without_its_banner_from_any_module():
-    done = subprocess.run([sys.executable, "-c", "import pdsketch_mech, pybullet; pybullet.connect(pybullet.DIRECT)"],
-                          capture_output=True, text=True, cwd=ROOT, check=True)
+def test_in_a_command_pybullet_loads_without_its_banner_from_any_module():
+    code = ("import sys\nsys.orig_argv = [sys.executable, '-m', 'pdsketch_mech.plan']\n"
+            "import pdsketch_mech, pybullet; pybullet.connect(pybullet.DIRECT)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
     assert (done.stdout, done.stderr) == ("", "")
+
+
+def test_importing_the_package_changes_nothing_in_a_library_process():
+    """No Ctrl-C handler, no import hook, no environment variable: those belong to commands."""
+    code = ("import os, signal, sys\n"
+            "before = (signal.getsignal(signal.SIGINT), list(sys.meta_path), dict(os.environ))\n"
+            "import pdsketch_mech, pdsketch_mech.api\n"
+            "print(before == (signal.getsignal(signal.SIGINT), list(sys.meta_path), dict(os.environ)))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
+    assert done.stdout.strip().splitlines()[-1] == "True"
 
 
 def test_bench_startup_reports_every_case(tmp_path, capsys):

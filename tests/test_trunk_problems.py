@@ -9,8 +9,8 @@ import os
 
 import pytest
 
-from pdsketch_mech import plan
-from pdsketch_mech import replay as replay_command
+from pdsketch_mech.commands import plan
+from pdsketch_mech.commands import replay as replay_command
 from pdsketch_mech.lang.loader import load_domain, load_problem
 from pdsketch_mech.planner import bilevel
 from pdsketch_mech.planner.execute import ExecutionResult

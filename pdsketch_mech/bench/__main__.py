@@ -12,12 +12,13 @@ import os
 from dataclasses import asdict
 from typing import Optional, Sequence
 
-from ..cli import (
-    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, output_error, print_error, run_and_exit,
-    seconds, seed, whole, write_json, write_text,
+from ..commands.common import (
+    ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, count, output_error, print_error, run_and_exit,
+    seconds, seed, whole,
 )
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
+from ..util.files import write_json, write_text
 from . import ipc, paper_commands
 from .plans import check_domain
 from .tables import render_markdown, render_text
@@ -57,6 +58,17 @@ def run_world_command(args: argparse.Namespace) -> int:
     if args.json:
         with open(args.json, "w", encoding="utf-8") as handle:
             json.dump({"seed": args.seed, **figures}, handle, indent=2)
+    return EXIT_OK
+
+
+def run_api_command(args: argparse.Namespace) -> int:
+    """`api`: N problems through one api.Planner against N `plan` processes."""
+    from . import api
+
+    figures = api.measure_api(args.task, args.problems, args.seed, args.timeout)
+    print("\n".join(api.report(figures)))
+    if args.json:
+        write_json(args.json, figures)
     return EXIT_OK
 
 
@@ -188,9 +200,9 @@ def run_reach_command(args: argparse.Namespace) -> int:
 
 def run_samplers_command(args: argparse.Namespace) -> int:
     """`samplers`: a mechanism's learned samplers against its generic ones on test instances."""
+    from ..learning.selfplay import default_fragment, task_of
     from . import samplers
     from .trials import checkout_commit
-    from ..learning.selfplay import default_fragment, task_of
 
     fragment = args.fragment or default_fragment(args.name)
     if not os.path.isfile(fragment):
@@ -250,6 +262,14 @@ def build_parser() -> argparse.ArgumentParser:
     world.add_argument("--seed", type=seed, default=0, metavar="N", help="random seed (default 0)")
     world.add_argument("--json", metavar="FILE", help="write the figures as JSON")
     world.set_defaults(func=run_world_command)
+    api = commands.add_parser("api", help="N problems planned through the Python API in one process vs N plan "
+                                          "processes")
+    api.add_argument("task", nargs="?", default="com", help="a shipped mechanism's task (default com)")
+    api.add_argument("--problems", type=count, default=20, metavar="N", help="problems (default 20)")
+    api.add_argument("--seed", type=seed, default=0, metavar="S", help="dev instances S..S+N-1 (default 0)")
+    api.add_argument("--timeout", type=seconds, default=120.0, metavar="S", help="per problem (default 120)")
+    api.add_argument("--json", metavar="FILE", help="write the figures as JSON")
+    api.set_defaults(func=run_api_command)
     startup = commands.add_parser("startup", help="wall time of plan and check, fresh processes (target 0.3 s)")
     startup.add_argument("--runs", type=count, default=7, metavar="N", help="timed runs per command (default 7)")
     startup.add_argument("--json", metavar="FILE", help="write the figures as JSON")

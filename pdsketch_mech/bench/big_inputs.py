@@ -19,7 +19,7 @@ import tempfile
 from dataclasses import dataclass
 from typing import List, Optional, Sequence, Tuple
 
-from ..world.asset_index import REPO_ROOT
+from ..util.data import REPO_ROOT
 from .child import wait_measured
 
 TARGET_S, TARGET_MB, INIT_TARGET_S = 5.0, 1024.0, 3.0

@@ -55,7 +55,7 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperComposition], methods: 
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from ..cli import atomic_file
+    from ..util.files import atomic_file
     fig, (rates, times) = plt.subplots(1, 2, figsize=(max(8.0, 3.6 * len(columns)), 4.0))
     x = np.arange(len(columns))
     width = 0.8 / (2 * len(methods))

@@ -27,9 +27,9 @@ from collections import Counter
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from .. import check
+from ..commands import check
 from ..lang.loader import declared_domain_name
-from ..world.asset_index import REPO_ROOT
+from ..util.data import REPO_ROOT
 from .child import child_error, run_limited, wait_measured
 from .mutate import mutate
 
@@ -42,7 +42,7 @@ _UNPRINTABLE = re.compile(r"[\x00-\x09\x0b-\x1f\x7f-\x9f]")
 
 
 @dataclass
-class Outcome:
+class MutantOutcome:
     file: str            # the seed file, relative to the repository
     mutations: List[str]
     kind: str            # "ok" | "error" (located) | "unlocated" | "crash" | "hang" | "over-memory"
@@ -52,7 +52,7 @@ class Outcome:
 @dataclass
 class FuzzReport:
     counts: Counter = field(default_factory=Counter)
-    failures: List[Outcome] = field(default_factory=list)   # every crash, hang and unlocated error
+    failures: List[MutantOutcome] = field(default_factory=list)   # every crash, hang and unlocated error
     subprocess_runs: int = 0
     seconds: float = 0.0
     peak_mb: float = 0.0     # the most memory one check added
@@ -228,7 +228,7 @@ def run_fuzz(mutants: int, seed: int = 0, subprocess_every: int = 50, progress: 
                 if index == 0:  # the subprocess run repeats the mutant: counted as a failure only
                     report.counts[kind] += 1
                 if kind not in ("ok", "error"):
-                    report.failures.append(Outcome(rel, names, kind, detail))
+                    report.failures.append(MutantOutcome(rel, names, kind, detail))
             with open(path, "wb") as handle:
                 handle.write(originals[rel])
             if progress and (number + 1) % 100 == 0:

@@ -18,10 +18,10 @@ from time import perf_counter
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 
-from ..cli import progress_bar
 from ..lang.loader import load_problem
 from ..symbolic.solve import solve
 from ..symbolic.validate import validate_plan
+from ..util.progress import progress_bar
 
 OURS = "ours"
 PEERS = ("pyperplan",)
@@ -36,7 +36,7 @@ class BenchError(Exception):
 
 
 @dataclass
-class Trial:
+class IpcTrial:
     """One planner on one problem."""
 
     domain: str
@@ -113,7 +113,7 @@ def _worker(conn: Any, planner: str, path: str, search: str, timeout: float) -> 
     conn.close()
 
 
-def run_trial(planner: str, domain: str, path: str, search: str, timeout: float) -> Trial:
+def run_trial(planner: str, domain: str, path: str, search: str, timeout: float) -> IpcTrial:
     """One trial in a fresh spawned process, killed if it overruns."""
     context = multiprocessing.get_context("spawn")
     receiver, sender = context.Pipe(duplex=False)
@@ -139,7 +139,7 @@ def run_trial(planner: str, domain: str, path: str, search: str, timeout: float)
         fields = message
     if fields["status"] == "solved" and fields["time_s"] > timeout:
         fields.update(status="timeout", length=None, valid=None)
-    return Trial(domain, os.path.splitext(os.path.basename(path))[0], planner, **fields)
+    return IpcTrial(domain, os.path.splitext(os.path.basename(path))[0], planner, **fields)
 
 
 def _receive(conn: Any, wait: float) -> Any:
@@ -153,7 +153,7 @@ def _receive(conn: Any, wait: float) -> Any:
 
 
 def run_ipc(directory: str, timeout: float = 60.0, peer: Optional[str] = None, search: str = "gbfs",
-            progress: bool = True) -> List[Trial]:
+            progress: bool = True) -> List[IpcTrial]:
     """Every problem under `directory`: ours, then the peer (if any), one after the other."""
     problems = discover(directory)
     planners = [OURS] + ([peer] if peer else [])
@@ -169,19 +169,19 @@ def run_ipc(directory: str, timeout: float = 60.0, peer: Optional[str] = None, s
     return trials
 
 
-def _by_problem(trials: Sequence[Trial]) -> List[Tuple[str, Trial, Optional[Trial]]]:
+def _by_problem(trials: Sequence[IpcTrial]) -> List[Tuple[str, IpcTrial, Optional[IpcTrial]]]:
     """(domain/problem, our trial, the peer's trial or None) in run order."""
     ours = [t for t in trials if t.planner == OURS]
     peers = {(t.domain, t.problem): t for t in trials if t.planner != OURS}
     return [(f"{t.domain}/{t.problem}", t, peers.get((t.domain, t.problem))) for t in ours]
 
 
-def _solved(trial: Optional[Trial]) -> bool:
+def _solved(trial: Optional[IpcTrial]) -> bool:
     """Solved, and (for ours) with a valid plan."""
     return trial is not None and trial.status == "solved" and trial.valid is not False
 
 
-def _ratio(ours: Trial, peer: Optional[Trial]) -> Optional[float]:
+def _ratio(ours: IpcTrial, peer: Optional[IpcTrial]) -> Optional[float]:
     """Peer time / our time, when both solved."""
     if not (_solved(ours) and _solved(peer)):
         return None
@@ -192,7 +192,7 @@ def _median(values: Sequence[float]) -> Optional[float]:
     return statistics.median(values) if values else None
 
 
-def summarize(trials: Sequence[Trial], peer: Optional[str] = None) -> Dict[str, Any]:
+def summarize(trials: Sequence[IpcTrial], peer: Optional[str] = None) -> Dict[str, Any]:
     """Solved counts, peer-only solves, median time ratios (all / in BAND), median length ratio."""
     rows = _by_problem(trials)
     summary: Dict[str, Any] = {
@@ -214,7 +214,7 @@ def _fmt(value: Optional[float], spec: str) -> str:
     return "-" if value is None else format(value, spec)
 
 
-def table(trials: Sequence[Trial], peer: Optional[str] = None) -> Tuple[List[str], List[List[str]]]:
+def table(trials: Sequence[IpcTrial], peer: Optional[str] = None) -> Tuple[List[str], List[List[str]]]:
     """Header and cells: problem, our status/time/length/expansions/validity, then the peer's."""
     header = ["problem", OURS, "time s", "length", "expansions", "valid"]
     header += [peer, "time s", "length", "ratio"] if peer else []
@@ -224,7 +224,7 @@ def table(trials: Sequence[Trial], peer: Optional[str] = None) -> Tuple[List[str
         row = [name, ours.status, _fmt(ours.time_s, ".3f"), _fmt(ours.length, "d"),
                _fmt(ours.expansions, "d"), valid]
         if peer:
-            other = other or Trial(ours.domain, ours.problem, peer, "-")
+            other = other or IpcTrial(ours.domain, ours.problem, peer, "-")
             row += [other.status, _fmt(other.time_s, ".3f"), _fmt(other.length, "d"),
                     _fmt(_ratio(ours, other), ".2f")]
         cells.append(row)
@@ -250,7 +250,7 @@ def summary_lines(summary: Dict[str, Any]) -> List[str]:
     return lines
 
 
-def plot(trials: Sequence[Trial], peer: str, path: str) -> None:
+def plot(trials: Sequence[IpcTrial], peer: str, path: str) -> None:
     """Log-log scatter of peer time vs our time (problems both solved), one style per domain."""
     import matplotlib
 

@@ -17,7 +17,7 @@ import statistics
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from .trials import ALL_MECHANISMS, METHOD_COLOURS, METHOD_TITLES, Job, Trial
+from .trials import ALL_MECHANISMS, Job, METHOD_COLOURS, METHOD_TITLES, Trial
 
 
 @dataclass(frozen=True)
@@ -186,7 +186,7 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequenc
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from ..cli import atomic_file
+    from ..util.files import atomic_file
     figures = cells(trials, columns, methods, timeout)
     fig, ax = plt.subplots(figsize=(max(6.0, 1.9 * len(columns)), 4.2))
     x = np.arange(len(columns))

@@ -15,13 +15,15 @@ from collections import Counter
 from dataclasses import asdict
 from typing import List, Sequence
 
+from ..commands.common import EXIT_OK, EXIT_UNSOLVED, count, seconds, seed
 from ..envs.spec import SPLITS
-from ..cli import EXIT_OK, EXIT_UNSOLVED, count, progress_bar, seconds, seed, write_json, write_text
+from ..util.files import write_json, write_text
+from ..util.progress import progress_bar
 from . import compose, mechanisms
 from .ipc import BenchError
 from .plans import check_domain
 from .tables import render_markdown, render_text
-from .trials import ALL_MECHANISMS, METHODS, PAPER_METHODS, Job, Trial, TrialsError, TRIALS_FILE, TrialStore, run_all
+from .trials import ALL_MECHANISMS, Job, METHODS, PAPER_METHODS, TRIALS_FILE, Trial, TrialStore, TrialsError, run_all
 
 MECHANISMS_DIR = os.path.join("domains", "mechanisms")
 BASIS = os.path.join("domains", "basis.pddl")

@@ -16,6 +16,7 @@ import tempfile
 from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence, Tuple
+from ..symbolic.optimistic import is_placeholder
 
 # Seconds a planner process may overrun its own --timeout (start-up, writing the JSON)
 # before it is killed; a replay gets REPLAY_TIMEOUT.
@@ -45,7 +46,7 @@ class Run:
 
 
 @dataclass
-class Outcome:
+class RunOutcome:
     """One planner process: its JSON document ({} if none was written), exit code and stderr."""
 
     document: Dict[str, Any]
@@ -61,7 +62,7 @@ def plan_command(domain: str, problem: str, seed: int, timeout: float, out: str,
 
 
 def plan_once(domain: str, problem: str, seed: int, timeout: float, out: str, basis_only: bool = False,
-              extra: Sequence[str] = ()) -> Outcome:
+              extra: Sequence[str] = ()) -> RunOutcome:
     """Run the planner in its own process, writing its JSON to `out`; killed `OVERRUN` s late."""
     if os.path.exists(out):
         os.unlink(out)  # a stale document from an earlier run must not be read as this one's
@@ -76,7 +77,7 @@ def plan_once(domain: str, problem: str, seed: int, timeout: float, out: str, ba
             document = json.load(handle)
     except (OSError, ValueError):
         document = {}
-    return Outcome(document, code, stderr)
+    return RunOutcome(document, code, stderr)
 
 
 def replay_once(domain: str, problem: str, plan_json: str, render: Optional[str] = None,
@@ -92,7 +93,7 @@ def replay_once(domain: str, problem: str, plan_json: str, render: Optional[str]
     return done.returncode == 0, last_line(done.stderr) or f"replay exit {done.returncode}"
 
 
-def make_run(problem: str, domain: str, seed: int, outcome: Outcome) -> Run:
+def make_run(problem: str, domain: str, seed: int, outcome: RunOutcome) -> Run:
     """A Run from a planner process's outcome (status "crashed" when it wrote no JSON)."""
     document, stats = outcome.document, outcome.document.get("stats", {})
     status = document.get("status", "crashed")
@@ -152,7 +153,7 @@ def skeleton_ops(text: str) -> List[Tuple[str, Tuple[str, ...]]]:
     for group in text.replace(")", "").split("(")[1:]:
         words = group.split()
         if words:
-            ops.append((words[0], tuple(w for w in words[1:] if not w.startswith("#"))))
+            ops.append((words[0], tuple(w for w in words[1:] if not is_placeholder(w))))
     return ops
 
 

@@ -27,7 +27,7 @@ RUN_SEED_STRIDE = 1000   # run j of instance k plans with seed S + k + RUN_SEED_
 
 
 @dataclass
-class Trial:
+class SamplerTrial:
     instance: str
     held_out: bool                        # an object of a category the train split never shows
     method: str
@@ -54,7 +54,7 @@ class Trial:
 
 
 def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed: int, timeout: float,
-                 keep: Optional[str] = None, progress: bool = True, workers: int = 1, runs: int = 1) -> List[Trial]:
+                 keep: Optional[str] = None, progress: bool = True, workers: int = 1, runs: int = 1) -> List[SamplerTrial]:
     """Every instance planned by both methods `runs` times (planner seeds S + k, then
     S + k + RUN_SEED_STRIDE * j), `workers` plans at a time (each its own process); trials
     in (instance, run, method) order whatever order they finish in."""
@@ -77,10 +77,10 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
                 jobs += [(held, Job(task_name, method, k, name, instance.problem_text(), fragment, (),
                                     seed + k + RUN_SEED_STRIDE * j, timeout), instance.name) for method in METHODS]
 
-        def run(item: Tuple[bool, Job, str]) -> Trial:
+        def run(item: Tuple[bool, Job, str]) -> SamplerTrial:
             held, job, instance = item
             done = run_job(job, keep or tmp)
-            trial = Trial(instance, held, job.method, done.status, done.time_s, _summed(done.proposals),
+            trial = SamplerTrial(instance, held, job.method, done.status, done.time_s, _summed(done.proposals),
                           done.simulated, done.score_ms, done.reason, job.seed)
             if progress:
                 print(f"  {job.instance}{' (held-out category)' if trial.held_out else ''} {trial.method}: "
@@ -114,7 +114,7 @@ def fewest_values(fragment: str, name: str) -> int:
     return sum(loaded.types.is_value(p.type) for p in find_mechanism(loaded, name).parameters)
 
 
-def table(trials: Sequence[Trial], fewest: Optional[int] = None) -> Tuple[List[str], List[List[str]], List[str]]:
+def table(trials: Sequence[SamplerTrial], fewest: Optional[int] = None) -> Tuple[List[str], List[List[str]], List[str]]:
     """One row per (instances, method); medians over every instance (unsolved ones count
     what they drew until the limit), times over solved ones. With `fewest` (fewest_values),
     a line says how many times fewer values than the generic median any sampler could take."""
@@ -169,7 +169,7 @@ def _fewer(generic: float, learned: float) -> str:
         return f"{generic / max(learned, 1e-9):.2f}x fewer"
     return f"{learned / max(generic, 1e-9):.2f}x more"
 
-def plot(trials: Sequence[Trial], path: str, title: str) -> None:
+def plot(trials: Sequence[SamplerTrial], path: str, title: str) -> None:
     """The per-sampler breakdown (the paper's Fig. 8): median proposals and values simulated
     per sampler, generic (Macro) beside learned (Macro+Sampler)."""
     import matplotlib
@@ -177,7 +177,7 @@ def plot(trials: Sequence[Trial], path: str, title: str) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from ..cli import atomic_file
+    from ..util.files import atomic_file
     names = sorted({n for t in trials for n in list(t.proposals) + list(t.simulated)})
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
     x = np.arange(len(names))
@@ -213,13 +213,13 @@ def report_of(fragment: str, name: str) -> str:
 REPORT_HEADING = "## Generic vs learned samplers (the paper's Fig. 8)"
 
 
-def add_to_report(trials: Sequence[Trial], report: str, name: str, command: str, commit: str = "",
+def add_to_report(trials: Sequence[SamplerTrial], report: str, name: str, command: str, commit: str = "",
                   fewest: Optional[int] = None, split: str = "dev") -> str:
     """Put the comparison into a mechanism's learning report (NAME.samplers.md): the table,
     and the per-sampler breakdown drawn beside it (NAME.samplers-fig8.png), with the command
     and the commit (`checkout_commit`; "" when unknown) that made them. A section written
     before is replaced, the rest of the report kept. Returns the PNG's path."""
-    from ..cli import write_text
+    from ..util.files import write_text
     from .tables import render_markdown
     png = report[:-len(".md")] + "-fig8.png"
     instances, runs = len({t.instance for t in trials}), len({t.run for t in trials})

@@ -15,7 +15,7 @@ import tempfile
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple
 
-from ..cli import write_text
+from ..util.files import write_text
 from .plans import make_run, plan_once, replay_once
 
 # method -> how the planner is told: the paper's three rows of Table 1, and Macro+Sampler with
@@ -131,7 +131,7 @@ def execute(jobs: Sequence[Job], workers: int = 1, backend: str = "local") -> It
     """Trials of `jobs` as they finish: `workers` planner processes at a time, or Ray tasks
     (`ray.init(num_cpus=workers)` locally, or the cluster RAY_ADDRESS names)."""
     if backend == "ray":
-        from ..ray_tasks import ray_unordered
+        from ..util.ray_tasks import ray_unordered
         yield from ray_unordered(run_job, jobs, workers)
         return
     from concurrent.futures import ThreadPoolExecutor, as_completed

@@ -1,68 +1,7 @@
-"""`python -m pdsketch_mech.envs TASK --seed N [--split train|dev|test] [--out FILE [--force]]`: a
-problem file drawn from a task distribution (`--canonical`: the canonical instance; `--list`:
-the tasks).
-
-The same task, split and seed always give the same bytes. An existing --out file is replaced
-only with --force. Exit 0, or 2 with one `error:` line on stderr for a bad request.
-"""
-from __future__ import annotations
-
-import os
+"""`python -m pdsketch_mech.envs`: the entry point of `commands/envs.py`."""
 import sys
-from typing import Optional, Sequence
 
-from ..cli import EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, output_error, run, whole, write_text
+from ..commands.common import run
+from ..commands.envs import main
 
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    from .spec import SPLITS
-    from .tasks import TASKS
-
-    parser = ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
-    parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}")
-    parser.add_argument("--seed", type=whole, help="which instance (a whole number >= 0)")
-    parser.add_argument("--split", default="train", choices=SPLITS,
-                        help="train: self-play; dev: tuning; test: reported tables only (default train)")
-    parser.add_argument("--canonical", action="store_true",
-                        help="the canonical instance: first train assets at their canonical poses")
-    parser.add_argument("--canonical-assets", action="store_true",
-                        help="with --seed: keep the canonical assets, perturb only the poses (the demos' check)")
-    parser.add_argument("--out", metavar="FILE", help="write here (default: stdout)")
-    parser.add_argument("--force", action="store_true", help="replace an existing --out file")
-    parser.add_argument("--list", action="store_true", help="list the tasks and exit")
-    args = parser.parse_args(argv)
-
-    if args.list:
-        for task in TASKS.values():
-            print(f"{task.name:14s} {task.title}: {task.description}")
-        return EXIT_OK
-    error = None
-    if args.task is None:
-        error = "name a task (--list shows them)"
-    elif args.task not in TASKS:
-        error = f"unknown task '{args.task}'; tasks: {', '.join(TASKS)}"
-    elif args.canonical == (args.seed is not None):
-        error = "give exactly one of --seed N and --canonical"
-    elif args.out:
-        unwritable = output_error(args.out, "--out")
-        if unwritable is not None:
-            error = unwritable.message
-        elif os.path.exists(args.out) and not args.force:  # e.g. a trained fragment: never replaced silently
-            error = f"{args.out} exists (use --force to replace it)"
-    if error:
-        print(f"error: {error}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    from .generate import sample
-
-    instance = sample(TASKS[args.task], args.split, args.seed, vary_assets=not args.canonical_assets)
-    text = instance.problem_text()
-    if args.out:
-        write_text(args.out, text)
-        print(f"wrote {args.out}: {instance.name}", file=sys.stderr)
-    else:
-        sys.stdout.write(text)
-    return EXIT_OK
-
-
-if __name__ == "__main__":
-    sys.exit(run(main))
+sys.exit(run(main))

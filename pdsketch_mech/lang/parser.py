@@ -12,6 +12,7 @@ import contextlib
 import functools
 import gc
 import hashlib
+import json
 import math
 import os
 import re
@@ -21,9 +22,11 @@ from typing import Callable, Iterator, List, Tuple, Union
 import lark
 from lark import Lark, Token, Transformer_NonRecursive, v_args
 from lark.exceptions import UnexpectedInput, VisitError
+from lark.grammar import Rule
+from lark.lexer import TerminalDef
 
-from .. import process
-from ..disk_cache import entry_path, store
+from ..util import process
+from ..util.disk_cache import entry_path, store
 from .errors import PddlError, did_you_mean
 from .nodes import (
     Action, ActionCall, And, Atom, Const, Domain, Equals, Exists, Forall, Imply, Loc, Mechanism,
@@ -47,21 +50,28 @@ _OPTIONS = dict(parser="lalr", lexer="contextual", propagate_positions=True, may
 
 @functools.lru_cache(maxsize=1)
 def _lark() -> Lark:
-    """The parser, built once per process and cached on disk (building the LALR tables
-    costs ~0.2 s; loading them ~10 ms). The cache file is keyed by grammar and Lark version
-    and written atomically, so concurrent processes never read a half-written file."""
+    """The parser, built once per process and its tables cached on disk as JSON: data only,
+    never unpickled, so a cache folder others can write cannot run code here (Lark's own
+    `save`/`load` pickle). The entry is keyed by grammar, Lark version and options; a
+    missing, stale or damaged one is rebuilt."""
     with open(_GRAMMAR, encoding="utf-8") as handle:
         grammar = handle.read()
     key = hashlib.sha256(f"{grammar}{lark.__version__}{sorted(_OPTIONS.items())}".encode()).hexdigest()[:16]
-    name = f"grammar-{key}.lark"
+    name = f"grammar-{key}.json"
     try:
-        with open(entry_path(name), "rb") as handle:
-            return Lark.load(handle)
+        with open(entry_path(name), encoding="utf-8") as handle:
+            return Lark.__new__(Lark)._load(json.load(handle, object_hook=_integer_keys))
     except Exception:  # missing, stale or unreadable cache: rebuild below
         pass
     parser = Lark(grammar, **_OPTIONS)
-    store(name, parser.save)  # a read-only home is fine: we just rebuild next time
+    data, memo = parser.memo_serialize([TerminalDef, Rule])
+    store(name, lambda handle: handle.write(json.dumps({"data": data, "memo": memo}).encode()))
     return parser
+
+
+def _integer_keys(mapping: dict) -> dict:
+    """JSON turns the tables' integer keys (states, memo ids) into strings; turn them back."""
+    return {(int(key) if key.lstrip("-").isdigit() else key): value for key, value in mapping.items()}
 
 
 def parse_text(text: str, file: str = "<input>") -> Union[Domain, Problem]:

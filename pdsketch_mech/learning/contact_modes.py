@@ -33,7 +33,7 @@ from typing import Dict, FrozenSet, List, Tuple
 import numpy as np
 
 from ..world.contacts import CONTACT_DISTANCE, SUPPORT_COS, pair_normal_z
-from .recording import Recording
+from ..world.recording import Recording
 
 SQUEEZE_COS = -0.2
 OPENING_TOLERANCE = 5e-4

@@ -17,10 +17,10 @@ from ..lang.loader import load_domain
 from ..lang.nodes import Domain, Formula, Problem
 from ..lang.parser import parse_text
 from ..lang.writer import formula, write_domain
-from ..symbolic.normalize import dnf
+from ..symbolic.normalize import holds
+from ..world.recording import Recording
 from .lifting import Lifted, lift
 from .paths import BASIS
-from .recording import Recording
 from .segmentation import Segmentation, segment
 from .steps import Explanation, ExtractionError, Fact, explain
 
@@ -44,21 +44,6 @@ def load_basis(path: str = BASIS) -> Domain:
     return load_domain([path]).domain
 
 
-def _goal_holds(goal: Formula, facts: Set[Fact]) -> bool:
-    for conj in dnf(goal, {}):
-        ok = True
-        for lit in conj:
-            atom = lit.atom
-            if hasattr(atom, "predicate"):
-                value = (atom.predicate, *(t.name for t in atom.args)) in facts
-            else:
-                value = atom.left.name == atom.right.name
-            ok = ok and value == lit.positive
-        if ok:
-            return True
-    return False
-
-
 def _facts_text(facts: Set[Fact]) -> str:
     return " ".join("(" + " ".join(f) + ")" for f in sorted(facts))
 
@@ -70,7 +55,7 @@ def check_complete(recording: Recording, goal: Formula, ex: Explanation, static:
     if frames is not None and frames != recording.frames:
         raise ExtractionError(f"the recording holds {recording.frames} frames but its header says {frames}: "
                               "it was cut off (re-record it)")
-    if not _goal_holds(goal, ex.final | static):
+    if not holds(goal, ex.final | static):
         end = float(recording.arrays["time"][-1])
         raise ExtractionError(f"the goal {formula(goal)} does not hold when the recording ends "
                               f"(t = {end:.2f} s; contacts then: {_facts_text(ex.final)}): it is incomplete or "

@@ -11,7 +11,7 @@ from typing import Dict, List, Sequence
 
 import numpy as np
 
-from ..cli import atomic_file, write_text
+from ..util.files import atomic_file, write_text
 from .sampler_training import ParamReport
 
 FEW_ROWS = 50   # validation rows below which the report flags an AUC as resting on little

@@ -32,8 +32,8 @@ from typing import Dict, FrozenSet, Hashable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..world.recording import Recording
 from .contact_modes import Bodies, FrameGraph, bodies_of, frame_graphs
-from .recording import Recording
 
 MIN_DURATION_S = 0.15
 PUSH_MIN_MOVE = 0.005

@@ -21,7 +21,7 @@ from typing import Callable, Dict, Iterator, List, Optional, Sequence
 
 import numpy as np
 
-from ..ray_tasks import ray_unordered
+from ..util.ray_tasks import ray_unordered
 from .selfplay import SelfPlayConfig, run_episode
 from .selfplay_store import done_episodes, open_folder, summary, update_manifest, write_episode
 

@@ -19,7 +19,7 @@ from typing import Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
 
-from ..cli import atomic_file, write_json
+from ..util.files import atomic_file, write_json
 
 SCHEMA = "pdsketch_mech.selfplay/2"  # /2: rejected proposals logged too
 EPISODE_FILE = re.compile(r"^e(\d{6,})\.npz$")

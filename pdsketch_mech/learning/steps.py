@@ -39,7 +39,7 @@ class ExtractionError(Exception):
 
 
 @dataclass(frozen=True)
-class Step:
+class DemoStep:
     """One basis operator grounded on the recording's bodies (header indices)."""
 
     operator: str
@@ -55,7 +55,7 @@ class Step:
 class Explanation:
     """The steps of a demonstration and the facts around them."""
 
-    steps: List[Step]
+    steps: List[DemoStep]
     initial: Set[Fact]                 # contact-mode facts at the start (all bodies)
     final: Set[Fact]                   # at the end of the recording
     involved: List[int]                # bodies the mechanism is about, in order of appearance
@@ -145,7 +145,7 @@ def explain(seg: Segmentation, basis: Domain) -> Explanation:
     first = segments[0].mode
     initial = graph_facts(seg, 0, first.held)
     state = initial | static
-    steps: List[Step] = []
+    steps: List[DemoStep] = []
     moved: List[int] = []
     indirect: Set[int] = set()
 
@@ -159,7 +159,7 @@ def explain(seg: Segmentation, basis: Domain) -> Explanation:
                 f"precondition {problem} does not hold after the steps before it: the basis operators cannot "
                 "explain this demonstration")
         state = ops.apply(op, ground, state)
-        steps.append(Step(op, objects, index, frame))
+        steps.append(DemoStep(op, objects, index, frame))
 
     def support(obj: int, frame: int, window: Tuple[int, int]) -> int:
         """obj's support at `frame`: the one the symbolic state has, else the strongest."""

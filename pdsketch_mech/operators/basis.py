@@ -11,12 +11,10 @@ from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
-from ..samplers.grasp import grasp_opening
-from ..samplers.trajectory import approach_axis
-from ..samplers.types import Contact, Grasp, Placement, Trajectory
 from ..world.attachment import relative_pose
-from ..world.robot import CLOSED, MAX_OPENING, rotation_angle
-from .execution import (ExecutionError, Recorder, back_out, fingers_touching, follow, follow_dynamic,
+from ..world.robot import CLOSED, MAX_OPENING, grasp_opening, rotation_angle
+from ..world.values import Contact, Grasp, Placement, Trajectory, approach_axis
+from .execution import (ExecutionError, FrameRecorder, back_out, fingers_touching, follow, follow_dynamic,
                         move_straight, robot_touches, set_fingers_dynamic)
 
 if TYPE_CHECKING:
@@ -43,7 +41,7 @@ def _guarded(run) -> Outcome:
         return Outcome(False, str(error))
 
 
-def transit(world: "World", trajectory: Trajectory, recorder: Optional[Recorder] = None) -> Outcome:
+def transit(world: "World", trajectory: Trajectory, recorder: Optional[FrameRecorder] = None) -> Outcome:
     """transit and move: a free-space motion (holding something or not)."""
     return _guarded(lambda: follow(world, trajectory.waypoints(), "motion", recorder=recorder))
 
@@ -63,7 +61,7 @@ def grasp_error(world: "World", grasp_: Grasp) -> Optional[str]:
 
 
 def grasp(world: "World", obj: str, grasp_: Grasp, trajectory: Trajectory,
-          recorder: Optional[Recorder] = None) -> Outcome:
+          recorder: Optional[FrameRecorder] = None) -> Outcome:
     """Approach, hold the object where the hand is, close the fingers on it, lift it."""
     def run() -> Optional[Outcome]:
         if world.attachment is not None:
@@ -90,7 +88,7 @@ def grasp(world: "World", obj: str, grasp_: Grasp, trajectory: Trajectory,
 
 
 def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory,
-          recorder: Optional[Recorder] = None) -> Outcome:
+          recorder: Optional[FrameRecorder] = None) -> Outcome:
     """Carry the object above the placement, lower it, let go, back off, let it settle.
     The object must then rest without the hand: one that slid after the fingers as they
     backed off (a box let go on a slope, nothing below it) and leans on them is not placed,
@@ -110,7 +108,7 @@ def place(world: "World", obj: str, placement: Placement, trajectory: Trajectory
     return _guarded(run)
 
 
-def push(world: "World", contact: Contact, trajectory: Trajectory, recorder: Optional[Recorder] = None) -> Outcome:
+def push(world: "World", contact: Contact, trajectory: Trajectory, recorder: Optional[FrameRecorder] = None) -> Outcome:
     """transit-cont (bare gripper) and move-cont (a held tool): approach behind the contact,
     push with the position controllers while the simulation runs, back out until the way up
     is clear (`back_out`), lift, settle."""

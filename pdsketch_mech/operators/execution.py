@@ -33,7 +33,7 @@ class ExecutionError(Exception):
     """A motion that cannot be executed as given (the message says why)."""
 
 
-class Recorder:
+class FrameRecorder:
     """Collects frames of an execution for a GIF: one every `every` waypoints."""
 
     def __init__(self, camera: Camera = Camera(), every: int = 4):
@@ -53,7 +53,7 @@ def _check_start(world: "World", path: Sequence[Sequence[float]], what: str) -> 
 
 
 def follow(world: "World", path: Sequence[Sequence[float]], what: str, ignore: Sequence[str] = (),
-           recorder: Optional[Recorder] = None) -> None:
+           recorder: Optional[FrameRecorder] = None) -> None:
     """Teleport the arm (and what it holds) along `path` once it is known collision-free."""
     if not len(path):
         return
@@ -69,7 +69,7 @@ def follow(world: "World", path: Sequence[Sequence[float]], what: str, ignore: S
 
 
 def follow_dynamic(world: "World", path: Sequence[Sequence[float]], what: str,
-                   recorder: Optional[Recorder] = None) -> Set[str]:
+                   recorder: Optional[FrameRecorder] = None) -> Set[str]:
     """Drive the arm along `path` with its position controllers, simulating contacts; returns
     the objects the hand, or what it holds, touched on the way."""
     touched: Set[str] = set()
@@ -94,7 +94,7 @@ def follow_dynamic(world: "World", path: Sequence[Sequence[float]], what: str,
 
 
 def move_straight(world: "World", direction: Sequence[float], distance: float, what: str,
-                  recorder: Optional[Recorder] = None) -> Set[str]:
+                  recorder: Optional[FrameRecorder] = None) -> Set[str]:
     """Move the gripper straight along `direction` with physics on (a lift, a retreat)."""
     # IK here draws no random restarts (it is seeded with the current configuration), so
     # the same state always gives the same motion.
@@ -105,7 +105,7 @@ def move_straight(world: "World", direction: Sequence[float], distance: float, w
 
 
 def back_out(world: "World", direction: Sequence[float], at_least: float, at_most: float,
-             lift: Sequence[float], lift_distance: float, recorder: Optional[Recorder] = None) -> Set[str]:
+             lift: Sequence[float], lift_distance: float, recorder: Optional[FrameRecorder] = None) -> Set[str]:
     """Retreat straight along `direction` by `at_least`, and on (up to `at_most`) to the
     first point from which a straight lift of `lift_distance` is collision-free, if there
     is one. A tool poked into a tunnel must come back out the way it went in: lifted
@@ -146,7 +146,7 @@ def _lift_is_free(world: "World", q: Sequence[float], lift: Sequence[float], dis
     return path_collision(world, path[leaves:]) is None
 
 
-def set_fingers_dynamic(world: "World", half_width: float, recorder: Optional[Recorder] = None) -> None:
+def set_fingers_dynamic(world: "World", half_width: float, recorder: Optional[FrameRecorder] = None) -> None:
     """Drive both fingers to `half_width` with physics until they stop (on an object or at the target)."""
     world.finger_target = half_width
     previous = None

@@ -12,12 +12,12 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence
 
 from ..lang.nodes import Problem
 from ..operators import basis
-from ..operators.execution import Recorder
-from ..samplers.types import Contact, Grasp, Placement, Trajectory
+from ..operators.execution import FrameRecorder
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
 from ..world.contacts import read_contacts
 from ..world.snapshot import Snapshot
+from ..world.values import Contact, Grasp, OPERATOR_VALUES, Placement, Trajectory
 from ..world.world import World
 from .serialize import from_json
 
@@ -26,17 +26,15 @@ SETTLE_WARNING = 5e-3  # metres an object may move while the initial scene settl
 
 
 def run_step(world: World, action: str, args: Sequence[str], values: Mapping[str, object],
-             recorder: Optional[Recorder] = None) -> basis.Outcome:
+             recorder: Optional[FrameRecorder] = None) -> basis.Outcome:
     """Execute basis operator `action` with its arguments' sampled values."""
     bound = [values.get(a, a) for a in args]
     of = lambda kind: next((v for v in bound if isinstance(v, kind)), None)  # noqa: E731
     trajectory: Optional[Trajectory] = of(Trajectory)
-    needs = {"grasp": (Grasp,), "place": (Placement,), "transit-cont": (Contact,), "move-cont": (Contact,),
-             "transit": (), "move": ()}
-    if action not in needs:
+    if action not in OPERATOR_VALUES:
         raise ValueError(f"action '{action}' has no operator implementation; basis operators are "
-                         "transit, transit-cont, grasp, place, move, move-cont")
-    missing = [kind.__name__.lower() for kind in needs[action] + (Trajectory,) if of(kind) is None]
+                         f"{', '.join(OPERATOR_VALUES)}")
+    missing = [kind.__name__.lower() for kind in OPERATOR_VALUES[action] if of(kind) is None]
     if missing:
         return basis.Outcome(False, f"no {' or '.join(missing)} value")
     if action == "grasp":
@@ -49,7 +47,7 @@ def run_step(world: World, action: str, args: Sequence[str], values: Mapping[str
 
 
 def execute_step(world: World, start: Snapshot, action: str, args: Sequence[str], values: Mapping[str, object],
-                 recorder: Optional[Recorder] = None) -> basis.Outcome:
+                 recorder: Optional[FrameRecorder] = None) -> basis.Outcome:
     """Restore `start` canonically, then run the step."""
     world.restore(start)
     return run_step(world, action, args, values, recorder)
@@ -104,7 +102,7 @@ class ExecutionResult:
 
 
 def execute_plan(task: StripsTask, problem: Problem, steps: Sequence[Dict[str, Any]],
-                 recorder: Optional[Recorder] = None) -> ExecutionResult:
+                 recorder: Optional[FrameRecorder] = None) -> ExecutionResult:
     """Run plan `steps` (JSON entries with "name", "args", "params") in a fresh world built
     from `problem`'s scene, each from a canonical restore, and check the goal at the end."""
     with build_world(problem, visual=recorder is not None) as world:

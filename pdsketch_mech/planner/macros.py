@@ -16,6 +16,7 @@ from ..lang.nodes import Domain, Formula, Mechanism, Problem, Var
 from ..lang.typecheck import TypeTable
 from ..symbolic.grounding import objects_by_type
 from ..symbolic.normalize import dnf, substitute
+from ..symbolic.optimistic import is_placeholder
 from ..symbolic.task import Operator, StripsTask
 
 
@@ -24,7 +25,7 @@ def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, pro
     objects = objects_by_type(domain, problem, types)
     by_signature: Dict[Tuple[str, Tuple[str, ...]], List[int]] = defaultdict(list)
     for op_id, op in enumerate(task.operators):
-        by_signature[(op.name, tuple(a for a in op.args if not a.startswith("#")))].append(op_id)
+        by_signature[(op.name, tuple(a for a in op.args if not is_placeholder(a)))].append(op_id)
     added = 0
     for mechanism in domain.mechanisms:
         object_params = [q for q in mechanism.parameters if not types.is_value(q.type)]
@@ -92,7 +93,7 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
         return None  # it promises what can never hold here
     # Which of the mechanism's variables each placeholder stands for: learned samplers are
     # trained per variable, and self-play labels its data by them.
-    roles = tuple(sorted((value, var) for var, value in env.items() if value.startswith("#")))
+    roles = tuple(sorted((value, var) for var, value in env.items() if is_placeholder(value)))
     return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids),
                     certified=certified, roles=roles)
 

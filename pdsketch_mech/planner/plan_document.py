@@ -17,13 +17,12 @@ from ..lang.errors import PddlError, did_you_mean, escape
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Action, Loc, Problem
 from ..lang.source import read_text
+from ..world.values import OPERATOR_VALUES as EXECUTED
 
 Path = Tuple[Union[str, int], ...]  # keys and indices from the document's root to a value
 
-# What `bindings.run_step` executes, and the parameter values each operator uses.
-OPERATOR_VALUES = {"transit": ("trajectory",), "move": ("trajectory",), "grasp": ("grasp", "trajectory"),
-                   "place": ("placement", "trajectory"), "transit-cont": ("contact", "trajectory"),
-                   "move-cont": ("contact", "trajectory")}
+# What `execute.run_step` executes, and the kinds of value (`serialize.to_json`) each operator uses.
+OPERATOR_VALUES = {name: tuple(kind.__name__.lower() for kind in kinds) for name, kinds in EXECUTED.items()}
 # The basis domain's value types and the kind of value (`serialize.to_json`) each holds.
 VALUE_KINDS = {"grasp": "grasp", "placement": "placement", "contact": "contact", "traj": "trajectory",
                "conf": "trajectory"}
@@ -38,6 +37,14 @@ class _Invalid(Exception):
     def __init__(self, path: Path, message: str):
         super().__init__(message)
         self.path, self.message = path, message
+
+
+def plan_document(status: str, reason: str, time_s: float, seed: int, plan: List[Dict[str, Any]],
+                  stats: Dict[str, Any], problem: str) -> Dict[str, Any]:
+    """The `plan --json` document (docs/commands.md), for classical and manipulation plans
+    alike; `problem` (its name) lets replay refuse the plan for another problem."""
+    return {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
+            "problem": problem, "plan": plan, "stats": stats}
 
 
 def load_plan(path: str, domain: LoadedDomain, problem: Problem) -> List[Dict[str, Any]]:
@@ -55,6 +62,18 @@ def load_plan(path: str, domain: LoadedDomain, problem: Problem) -> List[Dict[st
         return _Checker(domain, problem).document(document)
     except _Invalid as invalid:
         raise PddlError(invalid.message, Loc(path, *locate(text, invalid.path))) from None
+
+
+def check_plan(document: Any, domain: LoadedDomain, problem: Problem) -> List[Dict[str, Any]]:
+    """The steps of a decoded `plan --json` document (e.g. what `api.Planner.plan` returned),
+    valid for `problem`; else a PddlError naming the first problem and where it is."""
+    if problem.scene is None:
+        raise PddlError(f"problem '{problem.name}' has no :scene to replay a plan in", problem.loc)
+    try:
+        return _Checker(domain, problem).document(document)
+    except _Invalid as invalid:
+        where = "".join(f"[{key!r}]" for key in invalid.path)
+        raise PddlError(f"plan{where}: {invalid.message}") from None
 
 
 class _Checker:

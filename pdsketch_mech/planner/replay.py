@@ -5,13 +5,13 @@ from typing import Any, Dict, Optional, Sequence
 
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
-from ..operators.execution import Recorder
+from ..operators.execution import FrameRecorder
 from .bilevel import prepare_task
 from .execute import ExecutionResult, execute_plan
 
 
 def replay(domain: LoadedDomain, problem: Problem, plan: Sequence[Dict[str, Any]],
-           recorder: Optional[Recorder] = None) -> ExecutionResult:
+           recorder: Optional[FrameRecorder] = None) -> ExecutionResult:
     """Run each step of `plan` (JSON entries with "name", "args", "params") in a new world,
     exactly as the planner executed it."""
     task, _ = prepare_task(domain, problem, use_mechanisms=False)

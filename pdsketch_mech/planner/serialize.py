@@ -5,7 +5,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Sequence
 
 import numpy as np
 
-from ..samplers.types import Contact, Grasp, Placement, Trajectory
+from ..world.values import Contact, Grasp, Placement, Trajectory
 
 if TYPE_CHECKING:
     from .skeleton import Step

@@ -189,7 +189,7 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
             macro = basis_id != op_id
             steps.append(Step(basis.name, basis.args, state, op.name if macro else None,
                               op.certified if last and op.steps else (), k if macro else 0,
-                              tuple(a for a in op.args if not a.startswith("#")) if macro else (),
+                              tuple(a for a in op.args if not is_placeholder(a)) if macro else (),
                               op.roles if macro else (),
                               tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:])))
     return steps

@@ -26,10 +26,10 @@ from scipy.spatial.transform import Rotation
 
 from ..world.collision import CollisionChecker, body_penetrates
 from ..world.robot import CLOSED
+from ..world.values import Contact
 from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_TIP, HAND_UNDERSIDE
-from .interface import Sampler, SampleRequest
-from .types import Contact
+from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
     from ..world.world import World

@@ -17,7 +17,7 @@ import trimesh
 if TYPE_CHECKING:
     from ..world.world import World
 
-from .types import Pose
+from ..world.values import Pose
 
 
 def pose_matrix(pose: Pose) -> np.ndarray:

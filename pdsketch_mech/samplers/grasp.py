@@ -21,19 +21,18 @@ import pybullet as p
 import trimesh
 
 from ..world.collision import CollisionChecker
-from ..world.robot import MAX_OPENING
+from ..world.robot import MAX_OPENING, grasp_opening
+from ..world.values import Grasp, Pose
 from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_SPAN, FINGER_THICKNESS, HAND_BOX
-from .interface import Sampler, SampleRequest
+from .interface import SampleRequest, Sampler
 from .support_heights import SupportHeights
-from .types import Grasp, Pose
 
 if TYPE_CHECKING:
     from ..world.world import World
 
 ANTIPODAL_COS = float(np.cos(np.radians(15.0)))
 MIN_WIDTH, MAX_WIDTH = 0.002, 0.075   # a 3 mm sheet can be pinched; the fingers open to 8 cm
-CLEARANCE = 0.02        # the fingers open this much wider than the object before closing
 PRE_GRASP = 0.08        # metres back along -approach
 MAX_UP = 0.3            # largest world z-component of the approach: none from below
 INSIDE = 1e-4           # ray origins start this far inside the surface
@@ -43,11 +42,6 @@ POINTS_PER_ATTEMPT = 6  # surface points examined per allowed proposal, however 
 # IK restarts for a candidate: a hard pose is dropped, drawing another candidate is cheaper
 # (10 restarts keep ~92 % of the poses 30 find, in about half the time).
 IK_RESTARTS = 10
-
-
-def grasp_opening(width: float) -> float:
-    """How far apart the fingers are before they close on an object `width` thick."""
-    return min(MAX_OPENING, width + CLEARANCE)
 
 
 def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Callable, Generic, Iterator, Mapping, Optional
 
 import numpy as np
 
-from .types import Pose
+from ..world.values import Pose
 
 if TYPE_CHECKING:
     from ..world.world import World

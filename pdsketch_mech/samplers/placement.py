@@ -16,12 +16,12 @@ import pybullet as p
 import trimesh
 from scipy.spatial.transform import Rotation
 
-from ..world.collision import PENETRATION, CollisionChecker, body_penetration
+from ..world.collision import CollisionChecker, PENETRATION, body_penetration
 from ..world.contacts import read_contacts
+from ..world.values import Placement, Pose
 from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
 from .grasp import IK_RESTARTS
-from .interface import Sampler, SampleRequest
-from .types import Placement, Pose
+from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
     from ..world.world import World

@@ -15,9 +15,9 @@ import pybullet as p
 
 from ..world.attachment import compose
 from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, MAX_CHECKS, cartesian_path, path_collision, plan_motion
-from .grasp import grasp_opening
-from .interface import Sampler, SampleRequest
-from .types import Contact, Grasp, Placement, Pose, Trajectory
+from ..world.robot import grasp_opening
+from ..world.values import Contact, Grasp, Placement, Pose, Trajectory, approach_axis
+from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -25,11 +25,6 @@ if TYPE_CHECKING:
 PRE_DISTANCE = 0.08       # metres between a pre-pose and its target
 PUSH_RANGE = (0.05, 0.25)  # metres of push past first contact
 BACK_OFF = 0.02           # metres a push starts behind first contact (as the contact sampler checked)
-
-
-def approach_axis(tcp: Pose) -> np.ndarray:
-    """The gripper frame's z axis (the approach direction) in the world."""
-    return np.array(p.getMatrixFromQuaternion(tcp[1])).reshape(3, 3)[:, 2]
 
 
 def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], final_distance: float,

@@ -6,7 +6,7 @@ flattened into (condition DNF, add/delete literals) pairs.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Mapping, Sequence, Tuple, Union
+from typing import Dict, List, Mapping, Sequence, Set, Tuple, Union
 
 from ..lang.errors import PddlError
 from ..lang.nodes import And, Atom, Const, Equals, Exists, Forall, Formula, Imply, Not, Or, Term, Var, When
@@ -81,6 +81,21 @@ def dnf(f: Formula, objects_by_type: Mapping[str, Sequence[str]], positive: bool
                 raise PddlError(f"formula expands to more than {MAX_DISJUNCTS} alternatives", loc)
         return result
     raise PddlError(f"'{type(f).__name__.lower()}' cannot appear here", loc)
+
+
+def holds(f: Formula, facts: Set[Tuple[str, ...]], objects_by_type: Mapping[str, Sequence[str]] = {},
+          binding: Mapping[str, str] = {}) -> bool:
+    """Whether condition `f` holds on `facts` (ground atoms as tuples, closed world) under
+    `binding`; quantified variables range over `objects_by_type`."""
+    def value(term: Term) -> str:
+        return binding.get(term.name, term.name)
+
+    for conjunction in dnf(f, objects_by_type):
+        if all(((literal.atom.predicate, *map(value, literal.atom.args)) in facts if isinstance(literal.atom, Atom)
+                else value(literal.atom.left) == value(literal.atom.right)) == literal.positive
+               for literal in conjunction):
+            return True
+    return False
 
 
 @dataclass(frozen=True)

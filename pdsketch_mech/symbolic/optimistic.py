@@ -17,7 +17,7 @@ from typing import Dict, Iterable, Iterator, List, Mapping, Set, Tuple
 from ..lang.nodes import Atom, Const, Domain, Problem, Stream, TypedName
 from ..lang.typecheck import TypeTable
 from .grounding import objects_by_type
-from .normalize import dnf
+from .normalize import dnf, holds
 
 Fact = Tuple[str, ...]
 
@@ -63,7 +63,7 @@ def optimistic_problem(domain: Domain, problem: Problem, types: TypeTable,
                     continue
                 level = 1 + max((placeholders[v].level for v in values if v in placeholders), default=0)
                 binding = {p.name: v for p, v in zip(stream.inputs, values)}
-                if level > max_level or not _holds(stream.domain, binding, facts, objects):
+                if level > max_level or not holds(stream.domain, facts, objects, binding):
                     continue
                 instantiated.add(key)
                 changed = True
@@ -157,20 +157,3 @@ def _join(atoms: List[Atom], binding: Dict[str, str], by_predicate: Mapping[str,
 
 def _ground(atom: Atom, binding: Mapping[str, str]) -> Fact:
     return (atom.predicate,) + tuple(binding.get(t.name, t.name) for t in atom.args)
-
-
-def _holds(formula, binding: Mapping[str, str], facts: Set[Fact], objects) -> bool:
-    """Whether a (quantifier-expanded) condition holds on `facts` under `binding`."""
-    for conj in dnf(formula, objects):
-        ok = True
-        for lit in conj:
-            if isinstance(lit.atom, Atom):
-                ok = (_ground(lit.atom, binding) in facts) == lit.positive
-            else:
-                left, right = (binding.get(t.name, t.name) for t in (lit.atom.left, lit.atom.right))
-                ok = (left == right) == lit.positive
-            if not ok:
-                break
-        if ok:
-            return True
-    return False

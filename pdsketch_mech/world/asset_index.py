@@ -10,13 +10,14 @@ import os
 from functools import lru_cache
 from typing import Any, Dict, Optional, Tuple
 
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-ASSETS_DIR = os.path.join(REPO_ROOT, "assets")
+from ..util.data import data_path
+
+ASSETS_DIR = data_path("assets")
 MANIFEST = "manifest.json"
 
 
 def assets_root() -> str:
-    """Where scenes' assets are looked up: `$PDSKETCH_ASSETS`, else the repository's `assets/`."""
+    """Where scenes' assets are looked up: `$PDSKETCH_ASSETS`, else the shipped `assets/` (util/data.py)."""
     return os.environ.get("PDSKETCH_ASSETS") or ASSETS_DIR
 
 

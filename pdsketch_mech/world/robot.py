@@ -22,6 +22,7 @@ HAND_LINK = 8            # panda_hand: attachments are made to it
 TCP_LINK = 11            # panda_grasptarget: the point between the fingertips
 HOME = (0.0, -0.5, 0.0, -2.2, 0.0, 1.7, 0.785)
 MAX_OPENING = 0.08       # metres between the fingers, fully open
+GRASP_CLEARANCE = 0.02   # the fingers open this much wider than the object before closing
 CLOSED = 0.002           # finger half-width when "closed" on nothing: at 0 the finger meshes overlap
 SHOULDER = 0.333         # joint 2 above the base
 WRIST = 0.21             # the flange, behind the gripper frame along its z axis
@@ -134,3 +135,8 @@ class Kinematics:
                 if math.dist(pos, position) <= pos_tol and rotation_angle(orn, target) <= ang_tol:
                     return q
         return None
+
+
+def grasp_opening(width: float) -> float:
+    """How far apart the fingers are before they close on an object `width` thick."""
+    return min(MAX_OPENING, width + GRASP_CLEARANCE)

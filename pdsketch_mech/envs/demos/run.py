@@ -3,13 +3,14 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Dict, Iterable, Optional, Set, Tuple
+from typing import Callable, Dict, List, Optional, Set, Tuple
 
-from ...lang.nodes import And, Atom, Equals, Exists, Forall, Formula, Imply, Not, Or, Problem, Var
+from ...lang.nodes import Formula, Problem
 from ...lang.parser import parse_text
-from ...learning.recording import Recorder
+from ...symbolic.normalize import holds
 from ...world.build import build_world
 from ...world.contacts import read_contacts
+from ...world.recording import Recorder
 from ...world.world import World
 from ..generate import Instance, sample
 from ..tasks import get_task
@@ -29,40 +30,13 @@ DEMOS: Dict[str, Script] = {
 SETTLE_BEFORE = 120   # physics steps the scene rests before the recording starts
 
 
-def goal_holds(goal: Formula, facts: Set[Tuple[str, ...]], objects: Iterable[str]) -> bool:
-    """`goal` in the state given by `facts` (ground atoms as tuples), closed world."""
-    objects = list(objects)
-
-    def value(term, env):
-        return env.get(term.name, term.name) if isinstance(term, Var) else term.name
-
-    def holds(f, env) -> bool:
-        if isinstance(f, Atom):
-            return (f.predicate, *(value(a, env) for a in f.args)) in facts
-        if isinstance(f, Equals):
-            return value(f.left, env) == value(f.right, env)
-        if isinstance(f, Not):
-            return not holds(f.body, env)
-        if isinstance(f, And):
-            return all(holds(g, env) for g in f.parts)
-        if isinstance(f, Or):
-            return any(holds(g, env) for g in f.parts)
-        if isinstance(f, Imply):
-            return not holds(f.condition, env) or holds(f.consequence, env)
-        if isinstance(f, (Exists, Forall)):
-            names = [v.name for v in f.variables]
-
-            def bindings(i, env2):
-                if i == len(names):
-                    yield env2
-                    return
-                for o in objects:
-                    yield from bindings(i + 1, {**env2, names[i]: o})
-            results = (holds(f.body, b) for b in bindings(0, env))
-            return any(results) if isinstance(f, Exists) else all(results)
-        raise ValueError(f"cannot evaluate {type(f).__name__} in a goal")
-
-    return holds(goal, {})
+def goal_holds(goal: Formula, facts: Set[Tuple[str, ...]], problem: Problem) -> bool:
+    """`goal` in the state given by `facts`; a quantified variable ranges over the objects
+    declared with its type (or over all of them for `object`)."""
+    by_type: Dict[str, List[str]] = {"object": [o.name for o in problem.objects]}
+    for declared in problem.objects:
+        by_type.setdefault(declared.type, []).append(declared.name)
+    return holds(goal, facts, by_type)
 
 
 @dataclass
@@ -111,7 +85,7 @@ def run_demo(name: str, instance: Optional[Instance] = None, record: bool = True
         if recorder:
             recorder.stop()
         facts = {tuple(f) for f in read_contacts(world).facts()}
-        reached = not error and goal_holds(problem.goal, facts, [o.name for o in problem.objects])
+        reached = not error and goal_holds(problem.goal, facts, problem)
         result = DemoResult(instance, problem, reached, facts, recorder, world.sim_steps - steps0,
                             time.perf_counter() - start, error)
         if recorder:

@@ -10,8 +10,8 @@ import pybullet as p
 from PIL import Image, ImageDraw
 
 from ...lang.parser import parse_text
-from ...learning.recording import Recording
 from ...world.build import build_world
+from ...world.recording import Recording
 from ...world.render import Camera, render, save_gif
 from ...world.world import World
 

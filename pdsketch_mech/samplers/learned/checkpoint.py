@@ -60,7 +60,7 @@ def save(weights: str, model: "MechanismClassifiers", mechanism: Mechanism, info
     """Write the weights and the metadata (each atomically); returns both paths."""
     from safetensors.torch import save as to_bytes
 
-    from ...cli import atomic_file, write_json
+    from ...util.files import atomic_file, write_json
     tensors = {k: v.detach().contiguous() for k, v in model.state_dict().items()}
     with atomic_file(weights, binary=True, suffix=".safetensors") as handle:
         handle.write(to_bytes(tensors))

@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from ...world.values import Contact, Grasp, Placement, Trajectory
 from ..contact import ContactCandidate
 from ..geometry import matrix_pose
-from ..types import Contact, Grasp, Placement, Trajectory
 
 if TYPE_CHECKING:
     from ...world.world import World

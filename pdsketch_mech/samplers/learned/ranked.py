@@ -46,14 +46,14 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, Iterator, List,
 
 import numpy as np
 
-from ...disk_cache import content_key, load_arrays, store_arrays
-from ..interface import Sampler, SampleRequest
+from ...util.disk_cache import content_key, load_arrays, store_arrays
+from ..interface import SampleRequest, Sampler
 from .checkpoint import context_count, load_numpy
 from .context import context_objects
 from .encoding import encode_as, encode_proposal, pose_array
 from .forward import NumpyClassifiers
-from .specs import width
 from .shapes import cloud_key, size_features, unit_cloud
+from .specs import width
 from .trust import Trust
 from .walk import walk
 

@@ -20,7 +20,7 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from ...disk_cache import content_key, load_arrays, store_arrays
+from ...util.disk_cache import content_key, load_arrays, store_arrays
 from ..geometry import sample_surface, solid_mesh
 
 CLOUD_POINTS = 256

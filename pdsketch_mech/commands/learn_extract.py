@@ -8,9 +8,10 @@ import sys
 import time
 from typing import List, Optional
 
-from ..cli import EXIT_OK, EXIT_UNSOLVED, fail, output_error, write_text
 from ..lang.errors import PddlError
-from .paths import NAME, repo_path
+from ..learning.paths import NAME, repo_path
+from ..util.files import write_text
+from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_error
 
 
 def command_line(demo: str, name: str, out: str, default_out: str) -> str:
@@ -22,8 +23,8 @@ def command_line(demo: str, name: str, out: str, default_out: str) -> str:
 
 
 def extract_command(args) -> int:
-    from .paths import MECHANISMS_DIR
-    from .recording import load_recording, recording_paths
+    from ..learning.paths import MECHANISMS_DIR
+    from ..world.recording import load_recording, recording_paths
 
     npz, js = recording_paths(args.demo)
     for path in (npz, js):
@@ -48,9 +49,9 @@ def extract_command(args) -> int:
 
 
 def _extract(args, recording, name: str, out: str, command: str) -> int:
-    from .extract import check_fragment, extract, fragment_text
-    from .steps import ExtractionError
-    from .timeline import timeline_text
+    from ..learning.extract import check_fragment, extract, fragment_text
+    from ..learning.steps import ExtractionError
+    from ..learning.timeline import timeline_text
 
     start = time.perf_counter()
     try:
@@ -102,7 +103,7 @@ def _what_differs(out: str, existing_text: str, new_text: str, fragment) -> str:
     """The mechanism-level differences, or else the first line where the texts differ."""
     from ..lang.nodes import Domain
     from ..lang.parser import parse_text
-    from .compare import differences
+    from ..learning.compare import differences
 
     try:
         existing = parse_text(existing_text, file=out)
@@ -127,7 +128,7 @@ def _render(extraction, path: str) -> List[int]:
     import numpy as np
 
     from ..envs.demos.show import camera_for, draw_contacts, replay_world, set_frame
-    from .timeline import key_frames, render_timeline
+    from ..learning.timeline import key_frames, render_timeline
     from ..world.render import render
 
     recording = extraction.segmentation.recording

@@ -4,7 +4,7 @@
   a user with a stopwatch does: interpreter start-up and imports included.
 - Ctrl-C ends a command within `GRACE` seconds with exit status 130 and the line
   `interrupted`, at any moment. While the command's `main` runs, the handler raises
-  `KeyboardInterrupt` as Python's default does (`cli.run` turns it into the line and the
+  `KeyboardInterrupt` as Python's default does (`commands.common.run` turns it into the line and the
   status, after `finally` blocks have run) and also starts a watchdog: some libraries
   swallow the exception — trimesh imports its optional dependencies inside
   `except BaseException`, so a Ctrl-C during its import vanished and the run went on to
@@ -33,7 +33,7 @@ GRACE = 0.15          # seconds a KeyboardInterrupt gets to end the process on i
 _interrupted = threading.Event()
 _reported = threading.Event()
 _report_fd = 2                # where `interrupted` goes: the real stderr, also while fd 2 is silenced
-_in_main = threading.Event()  # KeyboardInterrupt is only raised where `cli.run` catches it
+_in_main = threading.Event()  # KeyboardInterrupt is only raised where `commands.common.run` catches it
 
 
 def _process_age() -> Optional[float]:

@@ -62,3 +62,15 @@ class Trajectory:
     def waypoints(self) -> np.ndarray:
         parts = [a for a in (self.approach, self.final, self.retreat) if len(a)]
         return np.concatenate(parts) if parts else np.zeros((0, 7))
+
+
+def approach_axis(tcp: Pose) -> np.ndarray:
+    """The gripper frame's z axis (the approach direction) in the world."""
+    x, y, z, w = tcp[1]
+    return np.array([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)])
+
+
+# The basis operators and the values each is executed with (its trajectory last).
+OPERATOR_VALUES = {"transit": (Trajectory,), "move": (Trajectory,), "grasp": (Grasp, Trajectory),
+                   "place": (Placement, Trajectory), "transit-cont": (Contact, Trajectory),
+                   "move-cont": (Contact, Trajectory)}

@@ -8,16 +8,15 @@ output path is checked before any work starts.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import sys
-import tempfile
-from contextlib import contextmanager
-from typing import IO, Any, Callable, Dict, Iterator, List, NoReturn, Optional, Sequence
+from typing import Any, Callable, Dict, List, NoReturn, Optional, Sequence
 
-from . import process
-from .lang.errors import PddlError, PddlWarning, escape
+from ..lang.errors import PddlError, PddlWarning, escape
+from ..planner.plan_document import plan_document
+from ..util import process
+from ..util.files import write_json
 
 EXIT_OK, EXIT_UNSOLVED, EXIT_BAD_INPUT = 0, 1, 2
 MAX_SEED = 2 ** 32 - 1  # the motion planner's generator takes 32-bit seeds
@@ -159,7 +158,7 @@ def number_in(low: float, high: float = math.inf) -> Callable[[str], float]:
 
 def max_ground_option(parser: argparse.ArgumentParser) -> None:
     """`--max-ground N` of check and plan: the grounding size a problem may reach (docs/limits.md)."""
-    from .symbolic.ground_size import DEFAULT_MAX_GROUND, short_number
+    from ..symbolic.ground_size import DEFAULT_MAX_GROUND, short_number
     parser.add_argument("--max-ground", type=number_in(1.0), default=float(DEFAULT_MAX_GROUND), metavar="N",
                         help="refuse a problem whose grounding is estimated above N atoms, stream instances or "
                              f"macros for one action, stream or mechanism (default {short_number(DEFAULT_MAX_GROUND)})")
@@ -203,54 +202,7 @@ def _same_file(a: str, b: str) -> bool:
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-@contextmanager
-def atomic_file(path: str, binary: bool = False, suffix: str = ".tmp") -> Iterator[IO]:
-    """A temporary file beside `path`, opened for writing, that replaces `path` when the block
-    ends without error (a reader, or a crash, never sees half a file; an existing file is
-    only replaced by a complete one) and is removed otherwise. Permissions as open() gives."""
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=suffix)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)  # as open() would create it, not mkstemp's 0600
-        with (os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding="utf-8", newline="\n")) as handle:
-            yield handle
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
-def progress_bar(**options: Any) -> Any:
-    """A tqdm bar on stderr. Into a log file (not a terminal) it redraws every LOG_INTERVAL
-    seconds rather than ten times a second: each redraw is another copy of the bar there."""
-    from tqdm import tqdm
-    if not sys.stderr.isatty():
-        options.setdefault("mininterval", LOG_INTERVAL)
-    return tqdm(file=sys.stderr, **options)
-
-
-LOG_INTERVAL = 30.0
-
-
-def write_text(path: str, text: str) -> None:
-    """Write `text` to `path` atomically (`atomic_file`)."""
-    with atomic_file(path) as handle:
-        handle.write(text)
-
-
-def write_json(path: str, document: Any) -> None:
-    """Write `document` atomically (`atomic_file`)."""
-    with atomic_file(path, suffix=".json") as handle:
-        json.dump(document, handle, indent=1)
-        handle.write("\n")
-
-
 def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: int,
                     plan: List[Dict[str, Any]], stats: Dict[str, Any], problem: str) -> None:
-    """The `plan --json` document of DESIGN.md, for classical and manipulation plans alike;
-    `problem` (its name) lets replay refuse the plan for another problem."""
-    write_json(path, {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
-                      "problem": problem, "plan": plan, "stats": stats})
+    """Write the `plan --json` document (planner/plan_document.py) atomically."""
+    write_json(path, plan_document(status, reason, time_s, seed, plan, stats, problem))

@@ -27,10 +27,10 @@ from typing import TYPE_CHECKING, Any, Dict, List, Tuple
 import numpy as np
 import pybullet as p
 
-from ..world.robot import ARM_JOINTS, FINGER_JOINTS
+from .robot import ARM_JOINTS, FINGER_JOINTS
 
 if TYPE_CHECKING:
-    from ..world.world import World
+    from .world import World
 
 SCHEMA = "pdsketch_mech.demo/1"
 PHYSICS_HZ = 240.0

@@ -17,16 +17,18 @@ import sys
 import time
 from typing import TYPE_CHECKING, Dict, Optional, Sequence, Tuple, Union
 
-from ..cli import EXIT_BAD_INPUT, fail, print_error, progress_bar, write_text
+from ..lang.edit import set_mechanism_sampler
 from ..lang.errors import PddlError
 from ..lang.nodes import Domain
 from ..lang.parser import parse_file
-from ..lang.edit import set_mechanism_sampler
+from ..learning.sampler_data import parent_specs, read_episodes
+from ..learning.sampler_report import write_report
+from ..learning.sampler_training import TrainConfig, train_mechanism
+from ..learning.selfplay_store import StoreError, first_episodes
 from ..samplers.learned.checkpoint import SUFFIX, metadata_path, save
-from .sampler_data import parent_specs, read_episodes
-from .sampler_report import write_report
-from .selfplay_store import StoreError, first_episodes
-from .sampler_training import TrainConfig, train_mechanism
+from ..util.files import write_text
+from ..util.progress import progress_bar
+from .common import EXIT_BAD_INPUT, fail, print_error
 
 if TYPE_CHECKING:
     from ..lang.nodes import Mechanism
@@ -41,7 +43,7 @@ def shown(path: str) -> str:
 def fragment_mechanism(name: str, fragment: Optional[str]) -> Union[Tuple[str, "Mechanism"], int]:
     """(the fragment: given, or domains/mechanisms/NAME.pddl; its mechanism NAME), or the exit
     status after one error line when the file or the mechanism is missing or does not parse."""
-    from .selfplay import _domain, default_fragment, find_mechanism
+    from ..learning.selfplay import _domain, default_fragment, find_mechanism
     path = fragment or default_fragment(name)
     if not os.path.isfile(path):
         return fail(f"{path}: no such file" + ("" if fragment else f" (is {name} a mechanism?)"))

@@ -9,16 +9,17 @@ from __future__ import annotations
 import os
 import sys
 
-from ..cli import EXIT_OK, EXIT_UNSOLVED, fail, output_error, write_json
+from ..util.files import write_json
+from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_error
 
 
 def evaluate_command(args) -> int:
+    from ..learning.evaluate import as_json, data_config, held_out_episodes, markdown, score_episodes, summarise
+    from ..learning.sampler_data import read_episodes
+    from ..learning.selfplay_store import StoreError, check_definition
     from ..samplers.learned.checkpoint import CheckpointError, context_count, load, mechanism_hash
     from ..samplers.learned.ranked import checkpoint_path
-    from .evaluate import as_json, data_config, held_out_episodes, markdown, score_episodes, summarise
-    from .sampler_data import read_episodes
-    from .selfplay_store import StoreError, check_definition
-    from .train_command import fragment_mechanism, shown
+    from .learn_train import fragment_mechanism, shown
 
     found = fragment_mechanism(args.name, args.fragment)
     if isinstance(found, int):

@@ -10,6 +10,7 @@ import os
 import sys
 
 EXIT_INTERRUPTED = 130
+SCRIPT_PREFIX = "pdsketch-"
 
 
 def _exit_now(signum, frame) -> None:
@@ -30,14 +31,15 @@ def command_module(argv: "list[str] | tuple[str, ...]") -> "str | None":
         if arg in ("-X", "-W"):
             next(args, None)
         elif arg == "-c" or not arg.startswith("-"):
-            return None  # a command string or a script: not one of ours
+            script = os.path.basename(arg)   # a console script pip installed (`pdsketch-plan`) is one of ours
+            return "pdsketch_mech." + script[len(SCRIPT_PREFIX):] if script.startswith(SCRIPT_PREFIX) else None
     return None
 
 
 def is_command() -> bool:
     """Whether this process runs one of the package's commands (`python -m pdsketch_mech.X`)."""
     module = command_module(getattr(sys, "orig_argv", ()))
-    return module is not None and module.split(".")[0] == __package__
+    return module is not None and module.split(".")[0] == __name__.split(".")[0]
 
 
 def install(previous: object = None) -> None:
