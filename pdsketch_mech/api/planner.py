@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from ..lang.errors import PddlError, PddlWarning
 from ..lang.loader import LoadedDomain, load_domain, load_problem
@@ -98,11 +98,14 @@ def _load_simulator_quietly() -> None:
 
 
 def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline: float, seed: int,
-               basis_only: bool, learned: Mapping[str, object]):
+               basis_only: bool, learned: Mapping[str, object],
+               on_warning: Optional[Callable[[PddlWarning], None]] = None):
     """The bilevel planner on `problem`'s scene until `deadline` (`time.perf_counter()` values,
     like `started`, when the caller's clock began): (PlanResult, the plan's JSON entries). The
     statistics get `startup_s` (until planning began: loading, world building), `planning_s`
-    (the algorithm's own time, what a paper's planning time measures) and `learned_samplers`."""
+    (the algorithm's own time, what a paper's planning time measures), `learned_samplers`, and
+    `scene_warnings`, the located warnings of the scene (objects that would fall), which
+    `on_warning` is also told of before planning starts."""
     _load_simulator_quietly()
     from ..planner.bilevel import bilevel_plan
     from ..planner.serialize import plan_entries
@@ -111,13 +114,18 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
     if problem.scene is None:
         raise PddlError(f"problem '{problem.name}' has no :scene; domain '{loaded.domain.name}' has "
                         "streams, so the planner needs the physical scene", problem.loc)
-    with build_world(problem, visual=False) as world:   # a GIF is rendered from a fresh replay
+    scene_warnings: List[PddlWarning] = []
+    with build_world(problem, visual=False, warnings=scene_warnings) as world:   # a GIF is rendered from a fresh replay
+        for warning in scene_warnings if on_warning is not None else ():
+            on_warning(warning)
         began = time.perf_counter()
         result = bilevel_plan(loaded, problem, world, timeout=max(0.1, deadline - began), seed=seed,
                               use_mechanisms=not basis_only, learned=learned)
         result.stats["planning_s"] = round(time.perf_counter() - began, 3)
     result.stats["startup_s"] = round(began - started, 3)
     result.stats["learned_samplers"] = sorted(learned) if learned else "off"
+    if scene_warnings:
+        result.stats["scene_warnings"] = [str(w) for w in scene_warnings]
     return result, plan_entries(result.steps, result.values)
 
 

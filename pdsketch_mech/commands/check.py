@@ -7,7 +7,8 @@ domain with streams has a `:scene`, a mechanism's learned samplers load (its `:s
 checkpoint exists, is readable and was trained for this definition of the mechanism; not with
 `--no-learned-samplers`, as in `plan`), and a scene builds into a simulated world (assets exist,
 no object is inside another or the robot, far away or below the table: `world/build.py`).
-Where the scene and `:init` disagree on the contact graph, check warns as `plan` does.
+Where the scene and `:init` disagree on the contact graph, or a movable object starts above
+what is under it (it would fall), check warns as `plan` does.
 Exit 0 when every file is clean (warnings allowed), 2 otherwise, with one
 `FILE:LINE:COL: error: ...` line per failing file (a problem whose domain is not found is
 not reported when a domain file given failed: that error is the one to read). Only a problem
@@ -76,15 +77,16 @@ def check_scene(loaded: LoadedDomain, problem: Problem, path: str) -> List[PddlW
         return []
     from ..world.build import build_world  # PyBullet: only a problem with a scene needs it
 
-    with build_world(problem) as world:
+    warnings: List[PddlWarning] = []  # objects that would fall, as plan warns of them
+    with build_world(problem, warnings=warnings) as world:
         if not streams:
-            return []  # a classical plan never looks at the scene
+            return warnings  # a classical plan never looks at the scene
         from ..planner.bilevel import _initial_mismatch, prepare_task
 
         task, _ = prepare_task(loaded, problem)
         world.settle()  # as the planner does before it compares
         mismatch = _initial_mismatch(task, world)
-    return [PddlWarning(mismatch, file=path)] if mismatch else []
+    return warnings + ([PddlWarning(mismatch, file=path)] if mismatch else [])
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -12,7 +12,7 @@ from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
 from ..planner.bilevel import PlanResult
 from ..samplers.learned.checkpoint import CheckpointError
-from .common import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, write_plan_json
+from .common import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, print_warning, write_plan_json
 
 # Seconds before the limit at which the planner stops taking new work: the step in flight
 # (one sample and simulation, up to ~0.5 s) and writing the results end near the limit.
@@ -26,7 +26,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         learned = learned_samplers(loaded, use_learned=not args.no_learned_samplers,
                                    use_mechanisms=not args.basis_only)
         result, entries = plan_scene(loaded, problem, started, started + args.timeout - FINISH_MARGIN, args.seed,
-                                     args.basis_only, learned)
+                                     args.basis_only, learned, on_warning=print_warning)
     except CheckpointError as error:  # a clear line, no fallback
         print_error(error.as_pddl_error())
         return EXIT_BAD_INPUT

@@ -7,6 +7,7 @@ Scene syntax, one entry per physical object declared in `:objects`:
       (hook  :asset "l-stick/0" :position (0.45 0.1 0.02) :rpy-deg (0 0 90) :on table)
       (box   :asset "block/1" :position (0.8 0 0.03) :quat (0 0 0 1) :mass 0.3 :friction 0.6))
 
+`:position (x y)` (no z) puts an object with `:on SUPPORT` where it rests on its support.
 Orientation is given at most once: `:quat (x y z w)`, `:rpy (r p y)` in radians, or
 `:rpy-deg (r p y)` in degrees (default: identity). `:scale` is one factor (or three equal
 ones). Values must make physical sense: mass, friction and scale within `LIMITS`, and no
@@ -27,7 +28,7 @@ Quat = Tuple[float, float, float, float]
 # key -> what its value must be, for the messages.
 SCENE_KEYS = {
     ":asset": 'an asset name string, e.g. "block/0"',
-    ":position": "a vector (x y z) in metres",
+    ":position": "a vector (x y z) in metres, or (x y) with :on",
     ":quat": "a unit quaternion (x y z w)",
     ":rpy": "roll pitch yaw in radians (r p y)",
     ":rpy-deg": "roll pitch yaw in degrees (r p y)",
@@ -59,6 +60,9 @@ class SceneObject:
     scale: Vec3 = (1.0, 1.0, 1.0)
     support: Optional[str] = None
     color: Optional[Tuple[float, float, float, float]] = None
+    # `:position (x y)`: z is where the object rests on `support`, found when the world is
+    # built (world/build.py); until then position[2] is 0.
+    rest: bool = False
 
 
 def build_scene(problem: Problem) -> Tuple[SceneObject, ...]:
@@ -131,6 +135,12 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
     asset = props[":asset"].value
     check(":asset", isinstance(asset, str) and bool(asset.strip()))
     position = _vector(props[":position"].value, 3)
+    rest = position is None and _vector(props[":position"].value, 2) is not None
+    if rest:
+        if ":on" not in props:
+            raise PddlError(f"scene object '{entry.name}': :position (x y) gives no z, so it needs :on SUPPORT "
+                            "to rest on; or give (x y z)", props[":position"].loc)
+        position = (*props[":position"].value, 0.0)
     check(":position", position is not None)
     orientation: Quat = (0.0, 0.0, 0.0, 1.0)
     if ":quat" in props:
@@ -166,7 +176,7 @@ def _scene_object(entry: SceneEntry) -> SceneObject:
         color = _vector(props[":color"].value, 4)
         check(":color", color is not None and all(0.0 <= c <= 1.0 for c in color))
     return SceneObject(entry.name, asset.strip(), position, orientation, ":fixed" in props, mass,
-                       friction, scale, support, color)
+                       friction, scale, support, color, rest)
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
