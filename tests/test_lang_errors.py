@@ -51,7 +51,7 @@ CASES = [
     ("unsupported requirement", broken_domain(":typing", ":typing :fluents"),
      "2:34: error: unsupported requirement ':fluents'"),
     ("unknown predicate", broken_domain("(clear ?x) (clear ?y))", "(clear ?x) (clean ?y))"),
-     "7:35: error: unknown predicate 'clean' (did you mean 'clear'?)"),
+     "7:35: error: unknown predicate 'clean' (did you mean 'clear'?); known: on, clear"),
     ("unknown type", broken_domain("(?x - block ?y - block)\n", "(?x - blok ?y - block)\n"),
      "6:18: error: unknown type 'blok' (did you mean 'block'?)"),
     ("wrong arity", broken_domain("(on ?x ?y)", "(on ?x)"),
@@ -75,6 +75,22 @@ def test_domain_error_is_one_exact_line(write_files, capsys, text, message):
     status, err = run_check(capsys, path)
     assert status == 2
     assert err == f"{path}:{message.format(d=path)}"
+
+
+def test_unknown_predicate_in_a_goal_lists_the_known_ones_without_a_close_match(write_files, capsys):
+    domain, problem = write_files(**{"d.pddl": DOMAIN, "p.pddl": PROBLEM.replace("(:goal (on a b))", "(:goal (over a b))")})
+    status, err = run_check(capsys, domain, problem)
+    assert (status, err) == (2, f"{problem}:5:10: error: unknown predicate 'over'; known: on, clear")
+
+
+def test_a_long_list_of_known_predicates_is_shortened(write_files, capsys):
+    names = [f"p{i}" for i in range(15)]
+    many = DOMAIN.replace("(clear ?x - block))", "(clear ?x - block) " + " ".join(f"({n})" for n in names) + ")")
+    domain, problem = write_files(**{"d.pddl": many, "p.pddl": PROBLEM.replace("(:goal (on a b))", "(:goal (over a b))")})
+    status, err = run_check(capsys, domain, problem)
+    assert status == 2
+    assert err.endswith("unknown predicate 'over'; known: on, clear, p0, p1, p2, p3, p4, p5, p6, p7, p8, p9, "
+                        "... (5 more)")
 
 
 def test_argument_of_wrong_type(write_files, capsys):
@@ -172,12 +188,16 @@ SCENE = """
     (':rpy-deg (0 0 90)', ':colour (1 0 0 1)',
      "8:48: error: scene object 'b': unknown property ':colour' (did you mean ':color'?); expected one of "
      ":asset, :position, :quat, :rpy, :rpy-deg, :fixed, :mass, :friction, :scale, :on, :color"),
+    (':position (0.5 0 0.02)', ':position (0.5)',
+     "7:25: error: scene object 'a': :position must be a vector (x y z) in metres, or (x y) with :on"),
     (':position (0.5 0 0.02)', ':position (0.5 0)',
-     "7:25: error: scene object 'a': :position must be a vector (x y z) in metres"),
+     "7:25: error: scene object 'a': :position (x y) gives no z, so it needs :on SUPPORT to rest on; or give "
+     "(x y z)"),
     (':rpy-deg (0 0 90)', ':rpy-deg (0 0 90) :quat (0 0 0 1)',
      "8:66: error: scene object 'b': give one orientation, not both :rpy-deg and :quat"),
     ('(a :asset "block/0" ', '(a ', "7:5: error: scene object 'a' has no :asset (an asset name string, e.g. \"block/0\")"),
-], ids=["undeclared object", "unknown property", "short position", "two orientations", "missing asset"])
+], ids=["undeclared object", "unknown property", "short position", "position without z or support",
+        "two orientations", "missing asset"])
 def test_scene_errors(write_files, capsys, old, new, message):
     text = PROBLEM.rstrip()[:-1] + SCENE
     assert old in text

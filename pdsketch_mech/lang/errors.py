@@ -7,7 +7,7 @@ line of plain text."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Sequence
 
 from .nodes import Loc
 
@@ -67,3 +67,11 @@ def did_you_mean(name: str, candidates) -> str:
 
     close = difflib.get_close_matches(name, sorted(candidates), n=1, cutoff=0.75)
     return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def known_names(names: Sequence[str], limit: int = 12) -> str:
+    """The names as a message lists them: in the order given, the first `limit` of them, then
+    how many more."""
+    names = list(names)
+    shown = ", ".join(names[:limit])
+    return shown + (f", ... ({len(names) - limit} more)" if len(names) > limit else "")

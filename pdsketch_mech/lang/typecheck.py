@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Dict, List, Mapping, Optional, Sequence
 
-from .errors import PddlError, PddlWarning, did_you_mean
+from .errors import PddlError, PddlWarning, did_you_mean, known_names
 from .nodes import (
     Action, ActionCall, And, Atom, Domain, Equals, Exists, Forall, Formula, Imply, Loc,
     Mechanism, Not, Or, Predicate, Problem, RunLoc, Stream, Term, TypedName, Var, When,
@@ -212,8 +212,10 @@ def _check_args(args: Sequence[Term], params: Sequence[TypedName], what: str,
 def _check_atom(atom: Atom, scope: Mapping[str, str], ctx: _Context) -> None:
     predicate = ctx.predicates.get(atom.predicate)
     if predicate is None:
+        # In the domain's order, as its author grouped them (sorted, related names would scatter).
+        known = f"known: {known_names(ctx.predicates)}" if ctx.predicates else "the domain declares no predicates"
         raise PddlError(f"unknown predicate '{atom.predicate}'"
-                        f"{did_you_mean(atom.predicate, ctx.predicates)}", atom.loc)
+                        f"{did_you_mean(atom.predicate, ctx.predicates)}; {known}", atom.loc)
     _check_args(atom.args, predicate.parameters, f"predicate '{atom.predicate}'", atom.loc, scope, ctx)
 
 
