@@ -145,3 +145,43 @@ def test_a_fragment_beside_the_problem_is_named_when_its_domain_is_not_given(tmp
         "p.pddl:2:1: error: no domain named 'mech-basis' (domains: none given); beside the problem, my-com.pddl is a "
         f"fragment of domain 'my-com' that extends it: give that fragment, or {BASIS}, which declares 'mech-basis'"]
     assert replay.main(["p.pddl", "plan.json", "my-com.pddl"]) in (0, 1)
+
+
+OTHER = edited(lambda d: d.update(problem="pick-block-2"))   # refused once read: shows which file was taken as what
+
+
+@pytest.mark.parametrize("order", [
+    ("problem", "plan"), ("plan", "problem"), ("domain", "problem", "plan"), ("plan", "domain", "problem"),
+    ("problem", "plan", "domain")], ids=lambda order: " ".join(order))
+def test_files_are_recognised_in_any_order(tmp_path, capsys, order):
+    path = tmp_path / "my-plan.txt"   # recognised by its content, not its name
+    path.write_text(json.dumps(OTHER, indent=1))
+    files = {"problem": PICK, "plan": str(path), "domain": BASIS}
+    assert replay.main([files[role] for role in order]) == 2
+    assert re.fullmatch(rf"{re.escape(str(path))}:\d+:\d+: error: the plan was made for problem 'pick-block-2', "
+                        rf"not 'pick-block' \({re.escape(PICK)}\)\n", capsys.readouterr().err)
+
+
+def test_shipped_names_take_their_documented_roles(tmp_path, capsys):
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps(OTHER))
+    assert replay.main([str(path), "basis", "pick"]) == 2   # `basis` only names a domain; `pick` is the problem
+    assert "error: the plan was made for problem 'pick-block-2', not 'pick-block'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("files,message", [
+    (lambda plan: [PICK, plan, plan + "2"], "two plans given ({plan}, {plan}2): replay takes one plan JSON"),
+    (lambda plan: [PICK, BASIS], "no plan given: replay needs the JSON file `plan --json` wrote, with its problem "
+                                 "(and domain) files, in any order"),
+    (lambda plan: [BASIS, plan], "no problem given: replay needs the problem the plan was made for "
+                                 "(given: {basis}, {plan})"),
+    (lambda plan: [PICK, EDGE, plan], "two problems given ({pick}, {edge}): replay takes one problem; a domain "
+                                      "file starts with (define (domain"),
+], ids=["two plans", "no plan", "no problem", "two problems"])
+def test_a_missing_or_doubled_input_is_one_line(tmp_path, capsys, files, message):
+    plan = str(tmp_path / "plan.json")
+    for name in (plan, plan + "2"):
+        with open(name, "w") as handle:
+            json.dump(VALID, handle)
+    assert replay.main(files(plan)) == 2
+    assert capsys.readouterr().err == "error: " + message.format(plan=plan, basis=BASIS, pick=PICK, edge=EDGE) + "\n"
