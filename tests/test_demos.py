@@ -94,7 +94,8 @@ def test_a_demo_that_misses_its_goal_fails_in_one_line(monkeypatch, tmp_path, ca
 
 def test_demo_command_rejects_bad_requests(tmp_path, capsys):
     assert demo_cli.main(["record", "hok", "--out", str(tmp_path)]) == 2
-    assert demo_cli.main(["record", "com", "--out", str(tmp_path / "missing")]) == 2
+    (tmp_path / "a-file").write_text("")
+    assert demo_cli.main(["record", "com", "--out", str(tmp_path / "a-file" / "demos")]) == 2
     (tmp_path / "com.json").write_text("{}")
     assert demo_cli.main(["record", "com", "--out", str(tmp_path)]) == 2
     assert demo_cli.main(["show", str(tmp_path / "nothing.npz"), "--strip", str(tmp_path / "s.png")]) == 2
@@ -102,6 +103,7 @@ def test_demo_command_rejects_bad_requests(tmp_path, capsys):
     assert demo_cli.main(["record", "push-pick-hook", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 5 and all(line.startswith("error: ") for line in err)
+    assert err[1] == f"error: --out {tmp_path}/a-file/demos: cannot create: Not a directory"
     assert "exists (use --force" in err[2]
     assert "'push-pick-hook' has no demonstration" in err[4]
 
@@ -111,15 +113,16 @@ def test_demo_list_names_only_tasks_with_a_script(capsys):
     assert [line.split()[0] for line in capsys.readouterr().out.splitlines()] == list(DEMOS)
 
 
-def test_record_and_show_a_demo(tmp_path, capsys):
-    assert demo_cli.main(["record", "com", "--out", str(tmp_path)]) == 0
-    header = json.loads((tmp_path / "com.json").read_text())
+def test_record_into_a_new_folder_and_show_a_demo(tmp_path, capsys):
+    folder = tmp_path / "new" / "demos"   # made with its parents
+    assert demo_cli.main(["record", "com", "--out", str(folder)]) == 0
+    header = json.loads((folder / "com.json").read_text())
     assert header["goal_achieved"] and header["task"] == "com" and header["seed"] is None
     assert header["problem"] == sample(TASKS["com"]).problem_text()
     assert not OPERATORS.search(json.dumps(header))
-    assert (tmp_path / "com.npz").stat().st_size < 5e6
+    assert (folder / "com.npz").stat().st_size < 5e6
     strip, gif = tmp_path / "strip.png", tmp_path / "demo.gif"
-    assert demo_cli.main(["show", str(tmp_path / "com.npz"), "--strip", str(strip), "--render", str(gif),
+    assert demo_cli.main(["show", str(folder / "com.npz"), "--strip", str(strip), "--render", str(gif),
                           "--every", "30"]) == 0
     assert strip.stat().st_size > 10_000 and gif.stat().st_size > 10_000
     assert "goal (and (support flat pedestal)" in capsys.readouterr().err

@@ -78,7 +78,8 @@ def test_domain_error_is_one_exact_line(write_files, capsys, text, message):
 
 
 def test_unknown_predicate_in_a_goal_lists_the_known_ones_without_a_close_match(write_files, capsys):
-    domain, problem = write_files(**{"d.pddl": DOMAIN, "p.pddl": PROBLEM.replace("(:goal (on a b))", "(:goal (over a b))")})
+    unknown = PROBLEM.replace("(:goal (on a b))", "(:goal (over a b))")
+    domain, problem = write_files(**{"d.pddl": DOMAIN, "p.pddl": unknown})
     status, err = run_check(capsys, domain, problem)
     assert (status, err) == (2, f"{problem}:5:10: error: unknown predicate 'over'; known: on, clear")
 
@@ -86,7 +87,8 @@ def test_unknown_predicate_in_a_goal_lists_the_known_ones_without_a_close_match(
 def test_a_long_list_of_known_predicates_is_shortened(write_files, capsys):
     names = [f"p{i}" for i in range(15)]
     many = DOMAIN.replace("(clear ?x - block))", "(clear ?x - block) " + " ".join(f"({n})" for n in names) + ")")
-    domain, problem = write_files(**{"d.pddl": many, "p.pddl": PROBLEM.replace("(:goal (on a b))", "(:goal (over a b))")})
+    unknown = PROBLEM.replace("(:goal (on a b))", "(:goal (over a b))")
+    domain, problem = write_files(**{"d.pddl": many, "p.pddl": unknown})
     status, err = run_check(capsys, domain, problem)
     assert status == 2
     assert err.endswith("unknown predicate 'over'; known: on, clear, p0, p1, p2, p3, p4, p5, p6, p7, p8, p9, "

@@ -214,7 +214,7 @@ def test_task_of_a_mechanism_extracted_from_a_perturbed_instance(tmp_path):
     (["com", "--grounding", "all"], "invalid choice"),
     (["com", "--context", "9"], "invalid choice"),
     (["com", "--task", "juggling"], "unknown task"),
-    (["com", "--out", "/nonexistent-folder/x"], "does not exist"),
+    (["com", "--out", "/dev/null/x"], "--out /dev/null/x: cannot create: Not a directory"),
     (["com", "--episodes", "0"], "must be a whole number >= 1"),
 ])
 def test_cli_bad_input(argv, message):
@@ -224,8 +224,8 @@ def test_cli_bad_input(argv, message):
     assert result.stderr.count("\n") == 1 and result.stderr.startswith("error:") and message in result.stderr
 
 
-def test_cli_runs_and_resumes(tmp_path):
-    folder = tmp_path / "data"
+def test_cli_makes_its_folder_runs_and_resumes(tmp_path):
+    folder = tmp_path / "new" / "data"   # made with its parents
     command = [sys.executable, "-m", "pdsketch_mech.learn", "selfplay", "com", "--episodes", "1", "--budget", "60",
                "--out", str(folder)]
     env = {**os.environ, "PYTHONPATH": ROOT}
@@ -322,7 +322,21 @@ def test_train_says_why_it_trained_nothing(com_copy, tmp_path, capsys):
     assert status == 1
     assert ", 0 succeeded (0 %), 2 hit --time-limit 0.01 s, " in lines[-2]
     assert lines[-1] == (f"train com: skipped: none of the 2 self-play episodes in {tmp_path / 'data'} succeeded, "
-                         "so no proposal is labelled 1 to learn from (2 of them hit --time-limit 0.01 s: raise it)")
+                         "so no proposal is labelled 1 to learn from (2 hit --time-limit 0.01 s: raise it, or play "
+                         "more --episodes)")
+
+
+@pytest.mark.parametrize("limit,hint", [
+    (["--time-limit", "0.01"], "2 hit --time-limit 0.01 s: raise it, or play more --episodes"),
+    (["--budget", "1"], "2 used up --budget 1: raise it, or play more --episodes"),
+], ids=["time limit", "budget"])
+def test_selfplay_says_why_no_episode_succeeded(com_copy, tmp_path, capsys, limit, hint):
+    data = tmp_path / "data"
+    status, err = learn_main(capsys, "selfplay", "com", "--episodes", "2", *limit, "--fragment", com_copy,
+                             "--task", "com", "--out", str(data))
+    assert status == 1
+    assert err.splitlines()[-1] == (f"selfplay com: none of the 2 episodes in {data} succeeded, so no proposal is "
+                                    f"labelled 1 for `train` to learn from ({hint})")
 
 
 def test_resume_is_announced_and_train_reads_the_first_n_episodes(com_copy, tmp_path, capsys):

@@ -195,6 +195,22 @@ def output_error(path: Optional[str], option: str, inputs: Sequence[str] = (),
     return None
 
 
+def output_folder(path: str, option: str) -> Optional[str]:
+    """Create the folder `path` (the value of `option`), with its parents, if it is missing;
+    why it cannot be written to, or None. Options that name a folder create it; options that
+    name a file need an existing folder (`output_error`), so that a typo in a folder's name
+    is not silently made."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        return f"{option} {path}: is not a folder"
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as exc:
+        return f"{option} {path}: cannot create: {exc.strerror or exc}"
+    if not os.access(path, os.W_OK):
+        return f"{option} {path}: is not writable"
+    return None
+
+
 def _same_file(a: str, b: str) -> bool:
     try:
         return os.path.samefile(a, b)

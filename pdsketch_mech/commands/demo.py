@@ -5,7 +5,8 @@ simulation data, and pictures of recordings.
         Run the scripted demonstration NAME (a task: edge, hook, lever, poking, com,
         slope-blocker) on the task's canonical instance, or with --seed on one with perturbed
         poses, recording the world at 60 Hz into DIR/NAME.npz + DIR/NAME.json (default DIR:
-        domains/mechanisms/demos; with --seed the files are NAME-SPLIT-SEED.*). Exit 1 with
+        domains/mechanisms/demos; created with its parents if missing; with --seed the files
+        are NAME-SPLIT-SEED.*). Exit 1 with
         one line if the script fails or the goal does not hold in the contact graph at the
         end (nothing is written); an existing recording is only replaced with --force.
         --variant distractor-push adds a block the hand pushes aside before the script runs
@@ -28,7 +29,7 @@ import time
 from typing import Optional, Sequence
 
 from ..util.data import data_path
-from .common import ArgumentParser, EXIT_OK, EXIT_UNSOLVED, fail, whole
+from .common import ArgumentParser, EXIT_OK, EXIT_UNSOLVED, fail, output_folder, whole
 
 DEMOS_DIR = data_path("domains", "mechanisms", "demos")
 
@@ -47,12 +48,13 @@ def record(args) -> int:
                     f"mechanisms; demonstrations: {', '.join(DEMOS)}")
     if args.name not in DEMOS:
         return fail(f"unknown demonstration '{args.name}'; demonstrations: {', '.join(DEMOS)}")
-    out = os.path.abspath(args.out or DEMOS_DIR)
-    if not os.path.isdir(out):
-        return fail(f"{args.out}: no such folder")
     for extra in (args.render, args.strip):
         if not _folder_ok(extra):
             return fail(f"{extra}: its folder does not exist")
+    out = os.path.abspath(args.out or DEMOS_DIR)
+    problem = output_folder(out, "--out") if args.out is not None else None
+    if problem is not None:
+        return fail(problem)
     stem = args.name + (f"-{args.variant}" if args.variant else "")
     stem += "" if args.seed is None else f"-{args.split}-{args.seed}"
     base = os.path.join(out, stem)
@@ -163,7 +165,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     rec.add_argument("--split", default="train", choices=("train", "dev", "test"))
     rec.add_argument("--variant", choices=("distractor-push",),
                      help="record a variant of the demo (distractor-push: push an extra block aside first)")
-    rec.add_argument("--out", metavar="DIR", help="folder (default domains/mechanisms/demos)")
+    rec.add_argument("--out", metavar="DIR", help="folder, created if missing (default domains/mechanisms/demos)")
     rec.add_argument("--force", action="store_true", help="replace an existing recording")
     rec.add_argument("--render", metavar="FILE.gif", help="also render the recording")
     rec.add_argument("--strip", metavar="FILE.png", help="also draw its key frames with contacts")

@@ -13,8 +13,9 @@
         Self-play (paper Alg. 2) of mechanism NAME (domains/mechanisms/NAME.pddl) on train
         instances of its task: every value the generic samplers draw, with its context,
         labelled 1 if the successful plan used it. Data go to DIR (default
-        out/selfplay/NAME/), one file per episode; a rerun resumes where a run stopped. A
-        folder of other options, or of another definition of the mechanism, is refused.
+        out/selfplay/NAME/; created with its parents if missing), one file per episode; a
+        rerun resumes where a run stopped. A folder of other options, or of another
+        definition of the mechanism, is refused.
         --split dev plays dev instances instead (default DIR out/selfplay-dev/NAME/):
         data for `evaluate`; `train` refuses a folder of them.
     train NAME [selfplay's options] [--epochs E] [--checkpoint FILE] [--force] [--compare N]
@@ -46,7 +47,9 @@ from typing import Dict, List, Optional, Sequence
 
 from ..learning.paths import NAME, repo_path
 from ..util.progress import progress_bar
-from .common import ArgumentParser, EXIT_OK, EXIT_UNSOLVED, count, fail, output_error, seconds, seed, whole
+from .common import (
+    ArgumentParser, EXIT_OK, EXIT_UNSOLVED, count, fail, output_error, output_folder, seconds, seed, whole,
+)
 
 
 def _parser() -> ArgumentParser:
@@ -94,7 +97,7 @@ def _selfplay_options() -> ArgumentParser:
     play.add_argument("--episodes", type=count, default=100, help="episodes 0..N-1 (default 100)")
     play.add_argument("--seed", type=seed, default=0, help="base seed: episode i uses seeds of (S, i) (default 0)")
     play.add_argument("--workers", type=count, default=1, help="processes running episodes (default 1)")
-    play.add_argument("--out", metavar="DIR", help="data folder (default out/selfplay/NAME)")
+    play.add_argument("--out", metavar="DIR", help="data folder, created if missing (default out/selfplay/NAME)")
     play.add_argument("--budget", type=count, default=400, metavar="UNITS",
                       help="work units per episode: samples drawn and simulated (default 400)")
     play.add_argument("--time-limit", type=seconds, default=300.0, metavar="S",
@@ -139,7 +142,12 @@ def selfplay_command(args) -> int:
         return prepared
     config, out, _ = prepared
     manifest = _selfplay(args, config, out)
-    return EXIT_OK if manifest["totals"]["successes"] else EXIT_UNSOLVED
+    if manifest["totals"]["successes"]:
+        return EXIT_OK
+    print(f"selfplay {args.name}: none of the {manifest['totals']['episodes']} episodes in {out} succeeded, so no "
+          f"proposal is labelled 1 for `train` to learn from ({_what_to_try(config, manifest.get('episodes', []))})",
+          file=sys.stderr)
+    return EXIT_UNSOLVED
 
 
 def train_command(args) -> int:
@@ -163,8 +171,8 @@ def train_command(args) -> int:
     selfplay_s = time.perf_counter() - started
     # Training reads episodes 0..--episodes-1 (all on disk now), not what an earlier run left
     # beyond them: the same command gives the same checkpoint.
-    used = first_episodes(manifest, args.episodes)["totals"]
-    if not used["successes"]:
+    used = first_episodes(manifest, args.episodes)
+    if not used["totals"]["successes"]:
         return _skipped(args, config, out, used)
     words = ["python -m pdsketch_mech.learn train", args.name] + _data_options(args, config, out)
     if args.epochs is not None:
@@ -182,14 +190,25 @@ def train_command(args) -> int:
     return EXIT_OK if trained else EXIT_UNSOLVED
 
 
-def _skipped(args, config, out: str, used: Dict[str, int]) -> int:
+def _skipped(args, config, out: str, used: Dict[str, object]) -> int:
     """Say why nothing was trained: no episode succeeded, so no proposal is labelled 1."""
-    timed = used["timed_out"]
-    hint = (f"{timed} of them hit --time-limit {config.time_limit:g} s: raise it" if timed
-            else "raise --budget or --episodes")
-    print(f"train {args.name}: skipped: none of the {used['episodes']} self-play episodes in {out} succeeded, "
-          f"so no proposal is labelled 1 to learn from ({hint})", file=sys.stderr)
+    print(f"train {args.name}: skipped: none of the {used['totals']['episodes']} self-play episodes in {out} "
+          f"succeeded, so no proposal is labelled 1 to learn from ({_what_to_try(config, used['episodes'])})",
+          file=sys.stderr)
     return EXIT_UNSOLVED
+
+
+def _what_to_try(config, rows: Sequence[Dict[str, object]]) -> str:
+    """What to try when none of the self-play episodes (manifest rows) succeeded: raise the
+    limits they hit, or play more of them."""
+    failed = [r for r in rows if not r["success"]]
+    timed = sum(bool(r.get("timed_out")) for r in failed)
+    spent = sum(not r.get("timed_out") and int(r.get("units", 0)) >= config.budget for r in failed)
+    hit = [f"{n} {what}" for n, what in ((timed, f"hit --time-limit {config.time_limit:g} s"),
+                                         (spent, f"used up --budget {config.budget}")) if n]
+    if not hit:  # each search ended within its limits: the mechanism's steps found no values there
+        return "none ran out of time or budget: the mechanism found no values in those instances; play more --episodes"
+    return f"{' and '.join(hit)}: raise {'it' if len(hit) == 1 else 'them'}, or play more --episodes"
 
 
 def _compare(name: str, config, checkpoint: str, instances: int) -> None:
@@ -224,22 +243,17 @@ def _prepare_selfplay(args):
         return fail(f"--task {task}: unknown task; tasks: {', '.join(TASKS)}")
     split = getattr(args, "split", "train")  # `train` always plays the train split
     out = args.out or os.path.join("out", "selfplay" if split == "train" else f"selfplay-{split}", args.name)
-    if os.path.exists(out) and not os.path.isdir(out):
-        return fail(f"--out {out}: is not a folder")
-    parent = os.path.dirname(os.path.abspath(out))
-    if args.out is not None and not os.path.isdir(parent):
-        return fail(f"--out {out}: folder {os.path.dirname(out) or '.'} does not exist")
+    problem = output_folder(out, "--out")   # with its parents, as `demo record --out` makes its folder
+    if problem is not None:
+        return fail(problem)
     config = SelfPlayConfig(mechanism.name, os.path.abspath(fragment), task, args.seed, args.budget, args.time_limit,
                             split, args.grounding, args.context)
     try:
-        os.makedirs(out, exist_ok=True)
         open_folder(out, config.identity(), repo_path(config.fragment))
     except StoreError as exc:
         return fail(str(exc))
     except OSError as exc:
         return fail(f"--out {out}: cannot create: {exc.strerror}")
-    if not os.access(out, os.W_OK):
-        return fail(f"--out {out}: is not writable")
     return config, out, mechanism
 
 
