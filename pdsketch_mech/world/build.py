@@ -29,7 +29,7 @@ from ..lang.errors import PddlError, PddlWarning
 from ..lang.nodes import Problem
 from ..lang.scene import SceneObject, build_scene
 from .asset_index import resolve_asset
-from .resting import fall, resting_z
+from .resting import height_above, resting_z
 from .world import Body, SceneError, World
 
 OVERLAP = 5e-3        # metres of interpenetration tolerated at load time
@@ -179,7 +179,7 @@ def check_floating(world: World) -> List[Tuple[str, str]]:
     for body in world.bodies.values():
         if body.fixed:
             continue
-        landed = fall(world, body.name)
+        landed = height_above(world, body.name)
         if landed is not None and landed[0] > FLOATING:
             drop, below = landed
             z = world.pose(body.name)[0][2] - drop

@@ -1,11 +1,14 @@
-"""Where an object would come to rest: how far it would fall straight down from its pose,
-and the z at which it rests on a given support.
+"""Where an object would come to rest: the z at which it rests on a given support, and how
+far it stands above what is under it.
 
 Both measure with the simulator's own collision shapes (PyBullet pads every convex part by
 a margin of about a millimetre, so an object rests a little higher than its mesh says): an
 object put at the z found here neither sinks into its support nor falls when the scene
-settles. The fall is found by conservative advancement: move down by the distance to the
-nearest body below (no body can be closer than that), until the distance is nil.
+settles. The resting z is found by conservative advancement: move down by the distance to
+the nearest body below (no body can be closer than that), until the distance is nil. The
+height above what is under it is read from one query, without moving anything: moving a
+body, even back to the same numbers, reorders the simulator's collision structures and
+changes later simulations in their last digits, and a plan must not depend on a warning.
 """
 from __future__ import annotations
 
@@ -24,10 +27,10 @@ REACH = 3.0           # metres below an object that are searched for something t
 LIFT = 0.01           # metres above a support's bounding box a resting object is dropped from
 
 
-def fall(world: "World", name: str, onto: Optional[Sequence[str]] = None) -> Optional[Tuple[float, str]]:
-    """How far `name` would fall straight down from where it is before it touches a body
-    below it (among `onto`, default: every other body and the robot), and that body as
-    message text ('table', the robot); None if nothing lies below. The world is left as found."""
+def _fall(world: "World", name: str, onto: Sequence[str]) -> Optional[Tuple[float, str]]:
+    """How far `name` would fall straight down from where it is before it touches one of the
+    bodies `onto`, and that body as message text; None if none lies below. The world is left
+    as found."""
     pose = world.pose(name)
     body = world.bodies[name].id
     others = _others(world, name, onto)
@@ -46,6 +49,14 @@ def fall(world: "World", name: str, onto: Optional[Sequence[str]] = None) -> Opt
     return dropped, below
 
 
+def height_above(world: "World", name: str) -> Optional[Tuple[float, str]]:
+    """How far `name` stands above the nearest body under it (another object, the robot),
+    and that body as message text; None if nothing is under it. Nothing is moved: each
+    closest point below counts its distance over its normal's z, the vertical drop onto a
+    plane through that point."""
+    return _nearest_below(world, world.bodies[name].id, _others(world, name, None), vertical=True)
+
+
 def resting_z(world: "World", name: str, support: str) -> Optional[float]:
     """The z at which `name`, at its current x, y and orientation, rests on `support` (the
     other bodies ignored); None if `support` is not under it there. The world is left as found."""
@@ -55,14 +66,14 @@ def resting_z(world: "World", name: str, support: str) -> Optional[float]:
     above = z + world.aabb(support)[1][2] + LIFT - world.aabb(name)[0][2]
     with _kept(world, world.bodies[name].id):
         world.set_pose(name, ((x, y, above), pose[1]))
-        landed = fall(world, name, [support])
+        landed = _fall(world, name, [support])
     return None if landed is None else above - landed[0]
 
 
 @contextlib.contextmanager
 def _kept(world: "World", body: int) -> Iterator[None]:
-    """Put the body back exactly where it was (the simulator's own numbers, not a pose
-    converted back and forth): measuring must not change what the planner simulates."""
+    """Put the body back exactly where it was: the simulator's own numbers, not a pose
+    converted back and forth."""
     client = world.client
     position, orientation = p.getBasePositionAndOrientation(body, physicsClientId=client)
     velocity = p.getBaseVelocity(body, physicsClientId=client)
@@ -79,12 +90,16 @@ def _others(world: "World", name: str, onto: Optional[Sequence[str]]) -> List[Tu
     return [(b.id, f"'{b.name}'") for b in world.bodies.values() if b.name != name] + [(world.robot, "the robot")]
 
 
-def _nearest_below(world: "World", body: int, others: Sequence[Tuple[int, str]]) -> Optional[Tuple[float, str]]:
-    """The distance to the nearest body whose closest point lies below this one, with its name."""
+def _nearest_below(world: "World", body: int, others: Sequence[Tuple[int, str]],
+                   vertical: bool = False) -> Optional[Tuple[float, str]]:
+    """The distance to the nearest body whose closest point lies below this one (`vertical`:
+    the distance straight down to the plane through that point), with its name."""
     best: Optional[Tuple[float, str]] = None
     for other, label in others:
         for point in p.getClosestPoints(body, other, REACH, physicsClientId=world.client):
             # point[7] is the contact normal on the other body, pointing towards this one.
-            if point[7][2] > BELOW and (best is None or point[8] < best[0]):
-                best = (max(point[8], 0.0), label)
+            if point[7][2] > BELOW:
+                distance = max(point[8], 0.0) / (point[7][2] if vertical else 1.0)
+                if best is None or distance < best[0]:
+                    best = (distance, label)
     return best
