@@ -1,11 +1,14 @@
-"""`python -m pdsketch_mech.plan` on classical PDDL: output format, exit codes, JSON, limits."""
+"""`python -m pdsketch_mech.plan` on classical PDDL: output format, exit codes, JSON, limits;
+and the hint an unsolved manipulation problem gets (which step failed, and how)."""
 import json
 import os
+import re
 import subprocess
 import sys
 import time
 
 from pdsketch_mech.commands import plan
+from pdsketch_mech.planner.failure_hint import failed_steps, failure_hint
 
 from conftest import DATA, ROOT
 from test_symbolic import CORRIDOR, corridor_problem
@@ -93,3 +96,54 @@ def test_command_line_closes_quietly_on_a_closed_pipe():
                " | head -1")
     result = subprocess.run(command, shell=True, capture_output=True, text=True, cwd=ROOT)
     assert result.stdout.count("\n") == 1 and "Traceback" not in result.stderr
+
+
+BASIS = os.path.join(ROOT, "domains", "basis.pddl")
+OUT_OF_REACH = """(define (problem far) (:domain mech-basis)
+  (:objects table box - item)
+  (:init (handempty) (fixed table) (support box table))
+  (:goal (holding box))
+  (:scene
+    (table :asset "table" :position (0.6 0 0) :fixed)
+    (box :asset "box/0" :position (1.0 0 0.031) :on table)))
+"""
+
+
+def test_unsolved_run_names_the_step_that_cannot_be_done_and_suggests_a_mechanism(write_files, capsys, tmp_path):
+    (problem,) = write_files(**{"far.pddl": OUT_OF_REACH})
+    out = tmp_path / "far.json"
+    status, _, err = run_plan(capsys, BASIS, problem, "--timeout", "60", "--json", str(out))
+    assert status == 1 and len(err) == 2 and err[0].startswith("unsolved: ")
+    assert re.fullmatch(r"hint: never feasible where its objects start: grasp box table \(0 of [1-9]\d* grasp "
+                        r"proposals feasible\), transit-cont box table \(0 of [1-9]\d* contact proposals feasible\); "
+                        r"a mechanism \(--mechanisms all\) may help", err[1]), err[1]
+    stats = json.loads(out.read_text())["stats"]
+    assert stats["hint"] == err[1].removeprefix("hint: ")
+    grasp = stats["failed_steps"]["grasp box table"]
+    assert grasp["dead"] and grasp["why"] == {"no feasible parameters": grasp["failures"]}
+    assert grasp["proposals"]["grasp"]["feasible"] == 0
+
+
+def test_the_hint_names_the_commonest_failure_and_what_its_samplers_let_through():
+    failures = {("place hook box", "no feasible parameters"): 45, ("place hook box", "no straight retreat"): 8,
+                ("grasp hook table", "no feasible parameters"): 12, ("grasp hook table", "no straight lift"): 50}
+    verified = {("place hook box", "placement", False): [5000, 100], ("place hook box", "placement", True): [3, 0],
+                ("place hook box", "place-motion", False): [100, 80],
+                ("grasp hook table", "grasp", True): [97, 91]}
+    failed = failed_steps(failures, verified)
+    assert list(failed) == ["grasp hook table", "place hook box"]   # by the commonest single reason
+    assert failed["place hook box"]["proposals"]["placement"] == {"verified": 5003, "feasible": 100}
+    assert failure_hint(failed, mechanisms=True) == (
+        "most failures: grasp hook table (no straight lift, 50 times), then place hook box (no feasible "
+        "parameters, 45 times: 100 of 5003 placement proposals feasible)")
+
+
+def test_a_dead_step_counts_only_the_proposals_where_its_objects_start():
+    verified = {("grasp box table", "grasp", True): [57, 0], ("grasp box table", "grasp", False): [40, 6],
+                ("grasp box table", "grasp-motion", False): [6, 6]}
+    failed = failed_steps({("grasp box table", "no feasible parameters"): 5}, verified, dead=["grasp box table"])
+    assert failed["grasp box table"]["proposals"] == {"grasp": {"verified": 57, "feasible": 0}}
+    assert failure_hint(failed, mechanisms=False) == ("never feasible where its objects start: grasp box table "
+                                                      "(0 of 57 grasp proposals feasible); a mechanism "
+                                                      "(--mechanisms all) may help")
+    assert failure_hint({}, mechanisms=True) is None

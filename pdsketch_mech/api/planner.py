@@ -103,9 +103,10 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
     """The bilevel planner on `problem`'s scene until `deadline` (`time.perf_counter()` values,
     like `started`, when the caller's clock began): (PlanResult, the plan's JSON entries). The
     statistics get `startup_s` (until planning began: loading, world building), `planning_s`
-    (the algorithm's own time, what a paper's planning time measures), `learned_samplers`, and
+    (the algorithm's own time, what a paper's planning time measures), `learned_samplers`,
     `scene_warnings`, the located warnings of the scene (objects that would fall), which
-    `on_warning` is also told of before planning starts."""
+    `on_warning` is also told of before planning starts, and for an unsolved run `hint`:
+    the steps that failed most and how (planner/failure_hint.py)."""
     _load_simulator_quietly()
     from ..planner.bilevel import bilevel_plan
     from ..planner.serialize import plan_entries
@@ -124,6 +125,11 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
         result.stats["planning_s"] = round(time.perf_counter() - began, 3)
     result.stats["startup_s"] = round(began - started, 3)
     result.stats["learned_samplers"] = sorted(learned) if learned else "off"
+    if result.status != "solved":
+        from ..planner.failure_hint import failure_hint
+        hint = failure_hint(result.stats.get("failed_steps", {}), not basis_only and bool(loaded.domain.mechanisms))
+        if hint:
+            result.stats["hint"] = hint
     if scene_warnings:
         result.stats["scene_warnings"] = [str(w) for w in scene_warnings]
     return result, plan_entries(result.steps, result.values)

@@ -58,10 +58,13 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
 
 
 def summary(result: PlanResult) -> str:
+    """The summary line; an unsolved run's hint (the steps that failed most, and whether a
+    mechanism may help) follows on a second line."""
     s = result.stats
     samples = ", ".join(f"{k} {v}" for k, v in s["samples"].items()) or "none"
     head = (f"solved: {len(result.steps)} steps" if result.status == "solved" else f"unsolved: {result.reason}")
-    return (f"{head} in {result.time_s:.2f} s ({s['startup_s']:.2f} s start-up, {s['symbolic_s']:.2f} s "
+    line = (f"{head} in {result.time_s:.2f} s ({s['startup_s']:.2f} s start-up, {s['symbolic_s']:.2f} s "
             f"symbolic, {s['continuous_s']:.2f} s sampling and simulation); {s['skeletons']} skeletons, "
             f"{s['executions']} executed steps, {s['sim_steps']} physics steps, "
             f"{s['rejected']} refinements rejected by re-execution; samples: {samples}")
+    return line + (f"\nhint: {s['hint']}" if result.status != "solved" and s.get("hint") else "")

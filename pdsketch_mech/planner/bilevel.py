@@ -26,12 +26,13 @@ from ..world.world import World
 from .bindings import StepSampler
 from .evidence import Evidence
 from .execute import contact_mask, execute_plan, observed_state, settle_start
+from .failure_hint import failed_steps
 from .macros import add_mechanism_macros
 from .probes import GroundingProbes
 from .refine import Refinement
 from .schedule import SLICE, lowest, score
 from .serialize import plan_entries
-from .skeleton import Skeleton, Step
+from .skeleton import Skeleton, Step, step_label
 from .supply import SkeletonSupply
 
 if TYPE_CHECKING:
@@ -101,6 +102,7 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     active: Dict[int, Refinement] = {}
     stats["skeleton_log"] = []
     failures: Counter = Counter()
+    step_failures: Counter = Counter()   # (step, why) over every skeleton, for the failure hint
     try:
         while time.perf_counter() < deadline:
             window = supply.upcoming()
@@ -122,7 +124,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 # labels: what one skeleton draws does not depend on which others came first.
                 rng = np.random.default_rng([seed, zlib.crc32(chosen.label(task).encode())])
                 chosen = active[chosen.number] = Refinement(chosen, initial, world, task, sampler, rng,
-                                                            in_fresh_world if validate else None, evidence, rank)
+                                                            in_fresh_world if validate else None, evidence, rank,
+                                                            step_failures=step_failures)
             refinement, deaths = chosen, evidence.deaths
             t0 = time.perf_counter()
             values = refinement.run(deadline, SLICE)
@@ -132,7 +135,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
                 for other in active.values():
                     failures += _retire(other, stats, evidence)
                 _final_counts(stats, supply, evidence, world.sim_steps - sim_start)
-                return _result("solved", refinement, values, start, stats, failures + refinement.failures, evidence)
+                return _result("solved", refinement, values, start, stats, failures + refinement.failures, evidence,
+                               step_failures)
             if refinement.exhausted:
                 del active[refinement.number]
                 stats["pruned"] += 1
@@ -154,7 +158,8 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
         reason = "no plan exists: no sequence of operators reaches the goal symbolically"
     else:
         reason = f"no plan exists: none of the {stats['skeletons']} skeletons could be refined"
-    return PlanResult("unsolved", time_s=elapsed, stats=_finish_stats(stats, failures, sampler), reason=reason)
+    return PlanResult("unsolved", time_s=elapsed, reason=reason,
+                      stats=_finish_stats(stats, failures, sampler, step_failures, evidence))
 
 
 def _log_created(stats: Dict[str, object], skeleton: Skeleton, rank: int, window: List[Skeleton],
@@ -197,13 +202,14 @@ def _retire(refinement: Refinement, stats: Dict[str, object], evidence: Evidence
 
 
 def _result(status: str, refinement: Refinement, values, start: float, stats, failures,
-            evidence: Evidence) -> PlanResult:
+            evidence: Evidence, step_failures: Counter) -> PlanResult:
     _retire(refinement, stats, evidence)
     return PlanResult(status, refinement.steps, values, time.perf_counter() - start,
-                      _finish_stats(stats, failures, refinement.sampler))
+                      _finish_stats(stats, failures, refinement.sampler, step_failures, evidence))
 
 
-def _finish_stats(stats: Dict[str, object], failures: Counter, sampler: StepSampler) -> Dict[str, object]:
+def _finish_stats(stats: Dict[str, object], failures: Counter, sampler: StepSampler,
+                  step_failures: Counter, evidence: Evidence) -> Dict[str, object]:
     """The statistics as the JSON document has them, with what the samplers recorded."""
     out = dict(stats)
     out["samples"] = dict(sorted(stats["samples"].items()))
@@ -223,6 +229,7 @@ def _finish_stats(stats: Dict[str, object], failures: Counter, sampler: StepSamp
     out["symbolic_s"] = round(stats["symbolic_s"], 3)
     out["continuous_s"] = round(stats["continuous_s"], 3)
     out["failures"] = dict(failures.most_common(8))
+    out["failed_steps"] = failed_steps(step_failures, sampler.verified, [step_label(*key) for key in evidence.dead])
     return out
 
 

@@ -11,7 +11,7 @@ variables have a classifier; the other streams keep the generic order.
 from __future__ import annotations
 
 import time
-from collections import Counter
+from collections import Counter, defaultdict
 from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Mapping, Optional, Tuple
 
 import numpy as np
@@ -22,6 +22,7 @@ from ..samplers.registry import GENERIC_SAMPLERS
 from ..symbolic.optimistic import Placeholder, is_placeholder
 from ..world.world import World
 from .promise import GroundingPromise
+from .skeleton import step_label
 
 if TYPE_CHECKING:
     from ..samplers.learned.ranked import LearnedMechanism
@@ -41,6 +42,9 @@ class StepSampler:
         self.streams, self.placeholders, self.counts = streams, placeholders, counts
         self.learned = dict(learned or {})   # mechanism name -> its classifiers
         self.simulated: Counter = Counter()  # sampler -> values of it in steps simulated
+        # (step label, sampler, its objects where the scene began) -> [proposals verified, of
+        # them feasible]: what a failing step lacked (failure_hint.py)
+        self.verified: Dict[Tuple[str, str, bool], List[int]] = defaultdict(lambda: [0, 0])
         self.deadline = float("inf")  # (time.perf_counter()) no value is drawn after it
         unknown = sorted({s.sampler or s.name for s in streams.values()} - set(GENERIC_SAMPLERS))
         if unknown:
@@ -180,11 +184,15 @@ class StepSampler:
         name, rest = needed[0], needed[1:]
         holder = self.placeholders[name]
         stream = self.streams[holder.stream]
+        key = self.key(stream.name)
+        tally = self.verified[(step_label(step.operator, step.args), key, step.at_start)]
+
         def verified(candidate, value):
+            tally[0] += 1
+            tally[1] += value is not None
             for observe in self.verify_observers:
                 observe(request, candidate, value)
-        request = self._request(holder, step, poses, values, parents, verified if self.verify_observers else None)
-        key = self.key(stream.name)
+        request = self._request(holder, step, poses, values, parents, verified)
         drawn = 0
         for value in self.sampler_for(stream.name, step, name).draw(world, request, rng):
             if time.perf_counter() > self.deadline:

@@ -22,7 +22,7 @@ from .bindings import StepSampler
 from .evidence import Evidence
 from .execute import contact_mask, execute_step, observed_state
 from .schedule import SLICE
-from .skeleton import Skeleton, Step, mismatch
+from .skeleton import Skeleton, Step, mismatch, step_label
 
 
 # Checks a refined skeleton must pass before it counts (the planner re-executes it in a
@@ -46,6 +46,9 @@ class Refinement:
     evidence: Optional[Evidence] = None
     rank: int = 1                 # creation order among the plan's skeletons (1 = first)
     failures: Counter = field(default_factory=Counter)
+    # (step label, why) -> how often: the step with its objects, so that the planner can say
+    # which step of the scene failed most (failure_hint.py); shared between skeletons.
+    step_failures: Counter = field(default_factory=Counter)
     executions: int = 0
     effort: int = 0               # work units spent: sampler visits and simulated steps
     rejected: int = 0             # refinements the fresh-world re-execution refused
@@ -88,7 +91,8 @@ class Refinement:
                 parents = {k: v for values in self.values[i - step.index:i] for k, v in (values or {}).items()}
                 self.skipped[i] = self._dead_where_it_began(i)
                 self.generators[i] = iter(()) if self.skipped[i] else itertools.islice(
-                    self.sampler.samples(world, step.context(), self.rng, parents), SLICE)   # a visit tries SLICE values
+                    self.sampler.samples(world, step.context(self.pristine[i] is not None), self.rng, parents),
+                    SLICE)   # a visit tries SLICE values
                 self.visit_values[i] = 0
                 self.visit_successes[i] = 0
             values = next(self.generators[i], None)
@@ -96,6 +100,8 @@ class Refinement:
                 self.generators[i] = None
                 why = "dead, its objects where they began" if self.skipped[i] else "no feasible parameters"
                 self.failures[f"{step.name}: {why}"] += 1
+                if not self.skipped[i]:  # a skipped visit tried nothing
+                    self.step_failures[(step_label(step.name, step.args), why)] += 1
                 if self.visit_values[i] == 0 and self.evidence is not None and not self.skipped[i]:
                     self.evidence.ran_dry(self.pristine[i])
                 if i > 0:
@@ -124,16 +130,16 @@ class Refinement:
             self.executions += 1
             self.sampler.note_simulated(values)
             if not outcome.ok:
-                self._failed(i, values, f"{step.name}: {outcome.reason}")
+                self._failed(i, values, outcome.reason)
                 continue
             if self.evidence is not None:
                 self.evidence.found(self.pristine[i])
             observed = observed_state(self.task, world)
             if mismatch(observed, step, self.observable):
-                self._failed(i, values, f"{step.name}: simulated contacts differ from the skeleton")
+                self._failed(i, values, "simulated contacts differ from the skeleton")
                 continue
             if step.certified and not self._certified(step, observed):
-                self._failed(i, values, f"{step.mechanism}: its :certified facts do not hold after its steps")
+                self._failed(i, values, "its :certified facts do not hold after its steps", mechanism=True)
                 continue
             self._note(i, True)
             if self.evidence is not None and self.evidence.is_dead(step.name, step.args):
@@ -167,10 +173,16 @@ class Refinement:
         return (step.mechanism is not None and following is not None and following.mechanism == step.mechanism
                 and following.index == step.index + 1)
 
-    def _failed(self, i: int, values: Dict[str, object], reason: str) -> None:
-        """Simulated step i failed: count why, tell the samplers of its values, and share the
-        outcome with the other skeletons."""
-        self.failures[reason] += 1
+    def _failed(self, i: int, values: Dict[str, object], why: str, mechanism: bool = False) -> None:
+        """Simulated step i failed: count why (against the step, or the `mechanism` it ends),
+        tell the samplers of its values, and share the outcome with the other skeletons."""
+        step = self.steps[i]
+        if mechanism:
+            self.failures[f"{step.mechanism}: {why}"] += 1
+            self.step_failures[(step_label(step.mechanism, step.mechanism_args), why)] += 1
+        else:
+            self.failures[f"{step.name}: {why}"] += 1
+            self.step_failures[(step_label(step.name, step.args), why)] += 1
         self.sampler.note_outcome(values, False)
         self._note(i, False)
 

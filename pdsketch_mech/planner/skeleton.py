@@ -34,14 +34,21 @@ class Step:
     roles: Tuple[Tuple[str, str], ...] = ()  # the mechanism's placeholders and their variables
     tolerated: int = 0            # support facts that may hold although `expected` lacks them
 
-    def context(self) -> StepContext:
-        """What the step's samplers are told about it."""
-        return StepContext(self.name, self.args, self.mechanism, self.mechanism_args, self.index, self.roles)
+    def context(self, at_start: bool = False) -> StepContext:
+        """What the step's samplers are told about it (`at_start`: its objects lie where the
+        scene began)."""
+        return StepContext(self.name, self.args, self.mechanism, self.mechanism_args, self.index, self.roles,
+                           at_start)
 
 
 def objects_of(args: Sequence[str]) -> Tuple[str, ...]:
     """The object arguments (placeholders name stream outputs, which differ between skeletons)."""
     return tuple(a for a in args if not is_placeholder(a))
+
+
+def step_label(operator: str, args: Sequence[str]) -> str:
+    """A step as messages name it: its operator and objects (`grasp box table`)."""
+    return " ".join((operator, *objects_of(args)))
 
 
 def step_key(step: Step) -> StepKey:

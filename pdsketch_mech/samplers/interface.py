@@ -38,6 +38,9 @@ class StepContext:
     mechanism_args: Tuple[str, ...] = ()  # the mechanism's object arguments
     index: int = 0                      # the step's position in its mechanism (0 for basis steps)
     roles: Tuple[Tuple[str, str], ...] = ()  # the mechanism's placeholders -> its variables ("#grasp4", "?g1")
+    # Nothing earlier in the skeleton touched the step's objects: they lie where the scene
+    # began (statistics only, so not part of what the step is).
+    at_start: bool = field(default=False, compare=False)
 
     def role(self, placeholder: str) -> Optional[str]:
         """The mechanism variable `placeholder` stands for (None: a basis step's, or unknown)."""

@@ -1,0 +1,80 @@
+"""Why no plan was found, in a line: the steps never feasible where their objects start (the
+evidence's dead steps: a box out of reach), then the steps that failed most often and how,
+from the refinements' failures per step (refine.py) and the proposals each step's samplers
+verified (bindings.py). Statistics only: nothing here steers the search."""
+from __future__ import annotations
+
+from collections import Counter
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple
+
+NO_VALUES = "no feasible parameters"   # refine.py's reason for a visit that drew no value
+SHOWN = 2                              # steps a hint names
+KEPT = 4                               # steps the statistics keep, besides the dead ones
+
+
+def failed_steps(step_failures: Mapping[Tuple[str, str], int],
+                 verified: Mapping[Tuple[str, str, bool], Sequence[int]],
+                 dead: Sequence[str] = ()) -> Dict[str, Dict[str, object]]:
+    """Per step (operator and objects): the `dead` ones (in the order found), then those that
+    failed most, most first. Each with how often it failed, why (the commonest reasons), and
+    per sampler the proposals it verified for the step and how many of them were feasible
+    (`verified`: by step, sampler and whether the step's objects lay where the scene began;
+    a dead step counts only those, the others every proposal)."""
+    by_step: Dict[str, Counter] = {}
+    for (label, why), count in step_failures.items():
+        by_step.setdefault(label, Counter())[why] += count
+    # Ordered by the commonest single reason, then the total: "how" names one reason.
+    failing = sorted((label for label in by_step if label not in dead),
+                     key=lambda label: (-max(by_step[label].values()), -sum(by_step[label].values()), label))
+    out: Dict[str, Dict[str, object]] = {}
+    for label in [*dead, *failing[:KEPT]]:
+        whys = by_step.get(label, Counter())
+        proposals: Dict[str, Dict[str, int]] = {}
+        for (step, sampler, at_start), tally in sorted(verified.items()):
+            if step == label and (at_start or label not in dead):
+                counts = proposals.setdefault(sampler, {"verified": 0, "feasible": 0})
+                counts["verified"] += tally[0]
+                counts["feasible"] += tally[1]
+        out[label] = {"failures": sum(whys.values()), "why": dict(whys.most_common(3)), "proposals": proposals}
+        if label in dead:
+            out[label]["dead"] = True
+    return out
+
+
+def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool) -> Optional[str]:
+    """The hint an unsolved run prints: the steps never feasible where their objects start,
+    then the steps that failed most and how (SHOWN steps in all), and, when the domain was
+    planned without mechanisms, that one may help; None when there is nothing to say."""
+    # A dead step's counts are those of its visits where its objects start: none is feasible there.
+    dead = [f"{label}{_proposals(entry)}" for label, entry in failed.items() if entry.get("dead")][:SHOWN]
+    most = [_how(label, entry) for label, entry in failed.items() if not entry.get("dead") and entry["why"]]
+    parts: List[str] = []
+    if dead:
+        parts.append("never feasible where its objects start: " + ", ".join(dead))
+    if most[:SHOWN - len(dead)]:
+        parts.append("most failures: " + ", then ".join(most[:SHOWN - len(dead)]))
+    if not mechanisms:
+        parts.append("a mechanism (--mechanisms all) may help")
+    return "; ".join(parts) or None
+
+
+def _how(label: str, entry: Mapping[str, object]) -> str:
+    """`place hook box (no feasible parameters, 45 times: 106 of 5003 placement proposals feasible)`."""
+    why, count = next(iter(entry["why"].items()))
+    text = f"{label} ({why}, {count} time{'s' * (count != 1)}"
+    return text + (_proposals(entry, inner=True) if why == NO_VALUES else "") + ")"
+
+
+def _proposals(entry: Mapping[str, object], inner: bool = False) -> str:
+    """What the step lacked: the sampler that let fewest of its proposals through, as
+    ` (0 of 92 grasp proposals feasible)`, or ` (no grasp proposals)` when it proposed none
+    (`: ...` inside other parentheses); '' if no sampler was asked."""
+    proposals = entry["proposals"]
+    if not proposals:
+        return ""
+    sampler, tally = min(proposals.items(),
+                         key=lambda item: (item[1]["feasible"] / max(item[1]["verified"], 1) if item[1]["verified"]
+                                           else -1.0, item[0]))
+    text = (f"{tally['feasible']} of {tally['verified']} {sampler} proposals feasible" if tally["verified"]
+            else f"no {sampler} proposals")
+    return f": {text}" if inner else f" ({text})"
