@@ -7,6 +7,8 @@ import subprocess
 import sys
 import time
 
+import pytest
+
 from pdsketch_mech.commands import plan
 from pdsketch_mech.planner.failure_hint import failed_steps, failure_hint
 
@@ -147,3 +149,13 @@ def test_a_dead_step_counts_only_the_proposals_where_its_objects_start():
                                                       "(0 of 57 grasp proposals feasible); a mechanism "
                                                       "(--mechanisms all) may help")
     assert failure_hint({}, mechanisms=True) is None
+
+
+def test_plan_render_takes_the_camera_options(capsys):
+    with pytest.raises(SystemExit) as exited:
+        plan.main([BASIS, os.path.join(ROOT, "problems", "pick.pddl"), "--render", "x.gif", "--pitch", "nan"])
+    captured = capsys.readouterr()
+    assert (exited.value.code, captured.out) == (2, "")
+    assert captured.err == "error: argument --pitch: must be a finite number, got 'nan'\n"
+    args = plan._parser().parse_args([BASIS, "pick", "--render", "x.gif", "--yaw", "90", "--distance", "1.2"])
+    assert (args.yaw, args.pitch, args.distance) == (90.0, -35.0, 1.2)

@@ -185,3 +185,18 @@ def test_a_missing_or_doubled_input_is_one_line(tmp_path, capsys, files, message
             json.dump(VALID, handle)
     assert replay.main(files(plan)) == 2
     assert capsys.readouterr().err == "error: " + message.format(plan=plan, basis=BASIS, pick=PICK, edge=EDGE) + "\n"
+
+
+def test_replay_render_takes_the_camera_options(tmp_path, capsys):
+    from PIL import Image
+
+    path, gif = tmp_path / "plan.json", tmp_path / "turned.gif"
+    path.write_text(json.dumps(VALID))
+    assert replay.main([PICK, str(path), "--render", str(gif), "--yaw", "90", "--pitch", "-60", "--distance", "1.2"]) \
+        in (0, 1)
+    assert Image.open(gif).size == (640, 480)
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as exited:
+        replay.main([PICK, str(path), "--render", str(gif), "--distance", "0"])
+    assert exited.value.code == 2
+    assert capsys.readouterr().err == "error: argument --distance: must be a finite number from 0.05 to 100, got '0'\n"

@@ -14,7 +14,7 @@ from pdsketch_mech.world.build import build_world
 from pdsketch_mech.world.collision import CollisionChecker
 from pdsketch_mech.world.contacts import pair_normal_z, read_contacts
 from pdsketch_mech.world.motion import cartesian_path, path_is_free, plan_motion
-from pdsketch_mech.world.render import render, save_gif, save_png
+from pdsketch_mech.world.render import Camera, View, render, save_gif, save_png, scene_camera
 from pdsketch_mech.lang.errors import PddlError
 from pdsketch_mech.world.world import World
 
@@ -279,6 +279,37 @@ def test_plate_pushed_past_the_table_edge_tips_and_an_overhang_stays():
         before = world.pose("plate")
         world.settle(max_steps=720)
         assert moved(before, world.pose("plate")) < 0.005
+
+
+def _pixels(camera, points):
+    """Where world `points` land in `camera`'s image, as (column, row)."""
+    import pybullet as p
+    view = np.array(p.computeViewMatrixFromYawPitchRoll(camera.target, camera.distance, camera.yaw, camera.pitch, 0,
+                                                        2)).reshape(4, 4).T
+    projection = np.array(p.computeProjectionMatrixFOV(camera.fov, camera.width / camera.height, 0.02,
+                                                       10.0)).reshape(4, 4).T
+    clip = (projection @ view @ np.hstack([points, np.ones((len(points), 1))]).T).T
+    ndc = clip[:, :2] / clip[:, 3:4]
+    return np.stack([(ndc[:, 0] + 1) / 2 * camera.width, (1 - ndc[:, 1]) / 2 * camera.height], axis=1)
+
+
+def _corners(world, name):
+    lo, hi = world.aabb(name)
+    return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+
+
+def test_the_scene_camera_frames_the_objects_and_shows_them_large():
+    path = os.path.join(ROOT, "docs", "examples", "first-problem.pddl")
+    with open(path, encoding="utf-8") as handle, build_world(parse_text(handle.read(), path)) as world:
+        framed = scene_camera(world)
+        assert (framed.width, framed.height) == (640, 480)
+        for name in world.movable():   # every object, and the arm's first pivot, are in the picture
+            inside = _pixels(framed, np.vstack([_corners(world, name), [world.shoulder]]))
+            assert np.all((inside >= 0) & (inside <= (640, 480))), name
+        width = lambda camera: np.ptp(_pixels(camera, _corners(world, "block"))[:, 0])  # noqa: E731
+        assert width(framed) > 2 * width(Camera())   # the fixed, far camera showed it small
+        turned = scene_camera(world, View(yaw=90.0, pitch=-60.0, distance=1.2))
+        assert (turned.yaw, turned.pitch, turned.distance, turned.target) == (90.0, -60.0, 1.2, framed.target)
 
 
 def test_rendering_produces_a_non_blank_image(tmp_path):

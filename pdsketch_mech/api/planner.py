@@ -136,14 +136,15 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
 
 
 def replay_entries(loaded: LoadedDomain, problem: Problem, entries: Sequence[Dict[str, Any]],
-                   render: Optional[str] = None):
-    """Execute plan entries in a fresh world; with `render`, save the replay as a GIF."""
+                   render: Optional[str] = None, view=None):
+    """Execute plan entries in a fresh world; with `render`, save the replay as a GIF, the
+    camera framing the scene from `view` (a world.render.View; default: its default)."""
     _load_simulator_quietly()
     from ..operators.execution import FrameRecorder
     from ..planner.replay import replay
-    from ..world.render import save_gif
+    from ..world.render import View, save_gif
 
-    recorder = FrameRecorder() if render else None
+    recorder = FrameRecorder(view=view or View()) if render else None
     result = replay(loaded, problem, entries, recorder=recorder)
     if render:
         save_gif(recorder.frames, render)

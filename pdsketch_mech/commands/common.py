@@ -172,6 +172,23 @@ def finite(text: str) -> float:
     return value
 
 
+def camera_options(parser: argparse.ArgumentParser) -> None:
+    """`--yaw`, `--pitch`, `--distance`: where `render`, `plan --render` and `replay --render`
+    look from; the camera frames the scene's objects (world/render.py `scene_camera`)."""
+    parser.add_argument("--yaw", type=finite, default=45.0, metavar="DEG", help="camera yaw in degrees (default 45)")
+    parser.add_argument("--pitch", type=finite, default=-35.0, metavar="DEG",
+                        help="camera pitch in degrees (default -35)")
+    parser.add_argument("--distance", type=number_in(0.05, 100.0), metavar="M",
+                        help="camera distance in metres (default: as close as shows the scene's objects)")
+
+
+def camera_view(args: argparse.Namespace):
+    """The `View` of `camera_options`' values (world/render.py; imported here, not above:
+    a classical plan never loads the simulator)."""
+    from ..world.render import View
+    return View(args.yaw, args.pitch, args.distance)
+
+
 # ----------------------------------------------------------------------------- output files
 def output_error(path: Optional[str], option: str, inputs: Sequence[str] = (),
                  suffixes: Sequence[str] = ()) -> Optional[PddlError]:

@@ -22,8 +22,8 @@ from ..symbolic.solve import ClassicalResult, SEARCHES, solve
 from ..symbolic.validate import validate_plan
 from ..util import process
 from .common import (
-    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, count, number_in, output_error, print_error,
-    max_ground_option, print_warning, seconds, seed, write_plan_json,
+    EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, ArgumentParser, camera_options, count, number_in, output_error,
+    print_error, max_ground_option, print_warning, seconds, seed, write_plan_json,
 )
 
 
@@ -48,6 +48,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--skeletons", type=count, metavar="N",
                         help="print the first N symbolic skeletons (placeholders for stream outputs)")
     parser.add_argument("--render", metavar="FILE.gif", help="replay the plan in a fresh world and save a GIF")
+    camera_options(parser)   # for --render
     parser.add_argument("--basis-only", action="store_true", help="ignore mechanisms: basis operators only")
     parser.add_argument("--no-learned-samplers", action="store_true",
                         help="use the generic samplers inside mechanisms too (the paper's 'Macro' ablation)")

@@ -12,7 +12,7 @@ from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
 from ..planner.bilevel import PlanResult
 from ..samplers.learned.checkpoint import CheckpointError
-from .common import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, print_error, print_warning, write_plan_json
+from .common import EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, camera_view, print_error, print_warning, write_plan_json
 
 # Seconds before the limit at which the planner stops taking new work: the step in flight
 # (one sample and simulation, up to ~0.5 s) and writing the results end near the limit.
@@ -42,7 +42,7 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
         print(f"warning: {warning}", file=sys.stderr)
     status = EXIT_OK if result.status == "solved" else EXIT_UNSOLVED
     if (args.validate or args.render) and result.status == "solved":
-        replayed = replay_entries(loaded, problem, entries, args.render)
+        replayed = replay_entries(loaded, problem, entries, args.render, camera_view(args))
         if args.render:
             print(f"render: {args.render}", file=sys.stderr)
         print(f"validate: replayed in a fresh world: {replayed.message}", file=sys.stderr)

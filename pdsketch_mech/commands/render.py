@@ -1,5 +1,6 @@
 """`python -m pdsketch_mech.render PROBLEM [DOMAIN ...] --out scene.png`: a picture of a
-problem's scene as the simulator builds it (optionally after letting it settle).
+problem's scene as the simulator builds it (optionally after letting it settle), the camera
+framing its objects (`--yaw`, `--pitch`, `--distance` move it).
 
 Exit 0 on success, 2 on bad input (one `FILE:LINE:COL: error:` line).
 """
@@ -13,9 +14,9 @@ from ..lang.loader import load_domain, load_problem
 from ..learning.paths import resolve_domain, resolve_problem
 from ..world.build import build_world
 from ..world.contacts import read_contacts
-from ..world.render import Camera, render, save_png
+from ..world.render import render, save_png, scene_camera
 from .common import (
-    EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, finite, number_in, output_error, print_error, print_warning,
+    EXIT_BAD_INPUT, EXIT_OK, ArgumentParser, camera_options, camera_view, output_error, print_error, print_warning,
 )
 
 
@@ -25,10 +26,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("domains", nargs="*", metavar="DOMAIN", help="its domain: a file, `basis`, or a shipped mechanism's name (default: found beside the problem)")
     parser.add_argument("--out", default="scene.png", metavar="FILE.png", help="image to write (default scene.png)")
     parser.add_argument("--settle", action="store_true", help="simulate until objects come to rest first")
-    parser.add_argument("--yaw", type=finite, default=45.0, help="camera yaw in degrees (default 45)")
-    parser.add_argument("--pitch", type=finite, default=-35.0, help="camera pitch in degrees (default -35)")
-    parser.add_argument("--distance", type=number_in(0.05, 100.0), default=1.9,
-                        help="camera distance in metres (default 1.9)")
+    camera_options(parser)
     args = parser.parse_args(argv)
     error = output_error(args.out, "--out", [args.problem, *args.domains], (".png",))
     if error is not None:
@@ -46,7 +44,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         with build_world(problem) as world:
             if args.settle:
                 world.settle()
-            save_png(render(world, Camera(yaw=args.yaw, pitch=args.pitch, distance=args.distance)), args.out)
+            save_png(render(world, scene_camera(world, camera_view(args))), args.out)
             graph = read_contacts(world)
     except PddlError as error:
         print_error(error)

@@ -18,7 +18,10 @@ from ..lang.loader import declared_domain_name, load_domain, load_problem
 from ..learning.paths import resolve_domain, resolve_problem, shipped_mechanisms
 from ..planner.plan_document import load_plan
 from ..util.data import data_path
-from .common import ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, output_error, print_error, print_warning
+from .common import (
+    ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, camera_options, camera_view, output_error, print_error,
+    print_warning,
+)
 
 JSON_START = (b"{", b"[")   # how a JSON document (a plan) begins, after blanks
 
@@ -74,6 +77,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                              "the plan written by `plan --json`, and its domain: a file, `basis`, or a shipped "
                              "mechanism's name (default: found beside the problem)")
     parser.add_argument("--render", metavar="FILE.gif", help="save the replay as a GIF")
+    camera_options(parser)
     args = parser.parse_args(argv)
     try:
         args.problem, args.plan, args.domains = sort_inputs(args.files)
@@ -96,7 +100,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from ..world.render import save_gif
 
     try:
-        recorder = FrameRecorder() if args.render else None
+        recorder = FrameRecorder(view=camera_view(args)) if args.render else None
         result = replay(domain, problem, steps, recorder=recorder)
     except PddlError as error:
         print_error(error)

@@ -14,7 +14,7 @@ import numpy as np
 import pybullet as p
 
 from ..world.motion import cartesian_path, path_collision
-from ..world.render import Camera, render
+from ..world.render import Camera, View, render, scene_camera
 from ..world.robot import FINGER_JOINTS
 
 if TYPE_CHECKING:
@@ -34,15 +34,18 @@ class ExecutionError(Exception):
 
 
 class FrameRecorder:
-    """Collects frames of an execution for a GIF: one every `every` waypoints."""
+    """Collects frames of an execution for a GIF: one every `every` waypoints, with `camera`,
+    or by default one that frames the scene as the first frame shows it, from `view`."""
 
-    def __init__(self, camera: Camera = Camera(), every: int = 4):
-        self.camera, self.every, self.frames = camera, every, []
+    def __init__(self, camera: Optional[Camera] = None, every: int = 4, view: View = View()):
+        self.camera, self.every, self.view, self.frames = camera, every, view, []
         self._count = 0
 
     def tick(self, world: "World", force: bool = False) -> None:
         self._count += 1
         if force or self._count % self.every == 0:
+            if self.camera is None:  # fixed at the first frame: a GIF's view does not move
+                self.camera = scene_camera(world, self.view)
             self.frames.append(render(world, self.camera))
 
 

@@ -1,9 +1,11 @@
 """Pictures of a world: camera images with PyBullet's TinyRenderer (works headless), PNG
-files, and GIFs of executed trajectories."""
+files, and GIFs of executed trajectories. `scene_camera` frames a scene's objects: the
+commands' pictures use it, seen from a `View` (yaw, pitch, and a distance or none)."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, List, Sequence, Tuple
+from typing import TYPE_CHECKING, List, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
@@ -24,6 +26,40 @@ class Camera:
     width: int = 480
     height: int = 360
     fov: float = 50.0
+
+
+@dataclass(frozen=True)
+class View:
+    """Where a framing camera looks from: yaw and pitch in degrees, and the distance in
+    metres (None: as close as frames the scene)."""
+
+    yaw: float = 45.0
+    pitch: float = -35.0
+    distance: Optional[float] = None
+
+
+FRAMED_SIZE = (640, 480)   # pixels of a framed picture
+HEADROOM = 0.25            # metres above the objects kept in view: where the hand lifts what it holds
+FRAME_MARGIN = 1.15        # the framed region's bounding sphere fills the view's height less this
+DISTANCES = (0.5, 4.0)     # metres a framing camera stays within
+
+
+def scene_camera(world: "World", view: View = View(), size: Tuple[int, int] = FRAMED_SIZE) -> Camera:
+    """A camera on the region the plan acts in: the bounding box of the movable objects,
+    with HEADROOM above them, and the robot's shoulder, where its reach starts (so that the
+    arm is seen coming in), from `view`'s yaw and pitch, as close as shows all of it (or at
+    `view.distance`). A scene without movable objects gets the default target."""
+    boxes = [world.aabb(name) for name in world.movable()]
+    if boxes:
+        lo = np.min([b[0] for b in boxes] + [world.shoulder], axis=0)
+        hi = np.max([b[1] + (0.0, 0.0, HEADROOM) for b in boxes] + [world.shoulder], axis=0)
+        target = tuple(float(v) for v in (lo + hi) / 2)
+        radius = float(np.linalg.norm(hi - lo)) / 2
+    else:
+        target, radius = Camera.target, Camera.distance * math.sin(math.radians(Camera.fov / 2))
+    fitting = radius / math.sin(math.radians(Camera.fov / 2)) * FRAME_MARGIN
+    distance = view.distance if view.distance is not None else min(max(fitting, DISTANCES[0]), DISTANCES[1])
+    return Camera(target=target, distance=distance, yaw=view.yaw, pitch=view.pitch, width=size[0], height=size[1])
 
 
 def render(world: "World", camera: Camera = Camera()) -> np.ndarray:
