@@ -59,7 +59,7 @@ def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool) -
 
 
 def _how(label: str, entry: Mapping[str, object]) -> str:
-    """`place hook box (no feasible parameters, 45 times: 106 of 5003 placement proposals feasible)`."""
+    """`place hook box (no feasible parameters, N times: K of M placement proposals feasible)`."""
     why, count = next(iter(entry["why"].items()))
     text = f"{label} ({why}, {count} time{'s' * (count != 1)}"
     return text + (_proposals(entry, inner=True) if why == NO_VALUES else "") + ")"
@@ -67,7 +67,7 @@ def _how(label: str, entry: Mapping[str, object]) -> str:
 
 def _proposals(entry: Mapping[str, object], inner: bool = False) -> str:
     """What the step lacked: the sampler that let fewest of its proposals through, as
-    ` (0 of 92 grasp proposals feasible)`, or ` (no grasp proposals)` when it proposed none
+    ` (0 of M grasp proposals feasible)`, or ` (no grasp proposals)` when it proposed none
     (`: ...` inside other parentheses); '' if no sampler was asked."""
     proposals = entry["proposals"]
     if not proposals:
