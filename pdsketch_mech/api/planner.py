@@ -84,6 +84,7 @@ def learned_samplers(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bo
     none. A checkpoint that cannot be read raises `CheckpointError`, never falls back."""
     if not use_learned or not use_mechanisms or not any(m.sampler for m in loaded.domain.mechanisms):
         return {}
+    _load_simulator_quietly()
     from ..samplers.learned.ranked import load_learned
     return load_learned(loaded.domain.mechanisms)
 
