@@ -23,6 +23,7 @@ from typing import List, Optional, Sequence
 from ..lang.errors import PddlError, PddlWarning, did_you_mean
 from ..lang.loader import DomainNotFound, LoadedDomain, declared_domain_name, load_domain, load_problem
 from ..lang.nodes import Problem
+from ..learning.paths import resolve_shipped
 from ..symbolic.ground_size import check_ground_size
 from .common import ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, max_ground_option, print_error, print_warning
 
@@ -93,13 +94,19 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = ArgumentParser(
         prog="python -m pdsketch_mech.check",
         description="Parse and type-check .pddl domain and problem files (exit 0 clean, 2 on errors).")
-    parser.add_argument("files", nargs="+", metavar="FILE", help="domain and problem files, in any order")
+    parser.add_argument("files", nargs="+", metavar="FILE", help="domain and problem files, in any order; a shipped domain, mechanism or "
+                                                               "example problem may be named (basis, hook-use)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print errors and warnings only")
     parser.add_argument("--no-learned-samplers", action="store_true",
                         help="as plan's: do not load the mechanisms' learned samplers (a missing one is a warning)")
     max_ground_option(parser)
     args = parser.parse_args(argv)
     learned = not args.no_learned_samplers
+    try:
+        args.files = [resolve_shipped(f) for f in args.files]
+    except PddlError as error:
+        print_error(error)
+        return EXIT_BAD_INPUT
 
     domain_files = [f for f in args.files if declared_domain_name(f) is not None]
     problem_files = [f for f in args.files if f not in domain_files]

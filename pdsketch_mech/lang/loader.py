@@ -13,6 +13,7 @@ import re
 from dataclasses import dataclass, replace
 from typing import Dict, FrozenSet, List, Optional, Sequence, Tuple
 
+from ..util.data import data_path
 from .errors import PddlError, PddlWarning
 from .nodes import Domain, Problem
 from .parser import parse_file
@@ -126,12 +127,16 @@ class DomainNotFound(PddlError):
     """A problem's `(:domain NAME)` is neither among the domains given nor beside it."""
 
 
-def _domain_candidates(problem_path: str) -> List[str]:
-    """Where a problem's domain is looked for, in order (see `find_domain_file`)."""
+def _domain_candidates(problem_path: str, shipped: bool = True) -> List[str]:
+    """Where a problem's domain is looked for, in order (see `find_domain_file`); without
+    `shipped`, only beside the problem."""
     folder = os.path.dirname(problem_path) or os.curdir  # as the user wrote it, to name files in messages
     candidates = [os.path.join(folder, "domain.pddl")]
     candidates += sorted(glob.glob(os.path.join(glob.escape(folder), "*.pddl")))
     candidates += sorted(glob.glob(os.path.join(glob.escape(folder), "..", "domains", "*.pddl")))
+    # Last, the package's own (util/data.py): a problem of the basis domain anywhere needs no path to it.
+    if shipped:
+        candidates += sorted(glob.glob(os.path.join(glob.escape(data_path("domains")), "*.pddl")))
     return [c for c in dict.fromkeys(map(os.path.normpath, candidates)) if os.path.isfile(c)]
 
 
@@ -143,7 +148,8 @@ def _shown(path: str) -> str:
 
 def find_domain_file(problem: Problem, problem_path: str) -> Optional[str]:
     """Look beside the problem for its domain: `domain.pddl`, any `*.pddl` in the same
-    folder, then `../domains/*.pddl`; the first whose name matches `(:domain ...)` wins."""
+    folder, then `../domains/*.pddl`, then the shipped domains; the first whose name matches
+    `(:domain ...)` wins."""
     for candidate in _domain_candidates(problem_path):
         if declared_domain_name(candidate) == problem.domain_name:
             return os.path.relpath(candidate)
@@ -155,7 +161,7 @@ def _not_found(problem: Problem, problem_path: str, domains: Sequence[LoadedDoma
     and, when a fragment there extends the domain (it declares its own name), which files to give."""
     name = problem.domain_name
     given = ", ".join(sorted(n for d in domains for n in d.names)) or "none given"
-    beside = [c for c in _domain_candidates(problem_path) if declared_domain_name(c) is not None]
+    beside = [c for c in _domain_candidates(problem_path, shipped=False) if declared_domain_name(c) is not None]
     for candidate in beside:
         chain: List[Tuple[str, Domain]] = []
         try:

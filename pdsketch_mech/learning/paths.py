@@ -58,3 +58,12 @@ def resolve_problem(name: str) -> str:
     folder = data_path("problems")
     shipped = sorted(os.path.splitext(f)[0] for f in os.listdir(folder) if f.endswith(".pddl"))
     return _resolve(name, folder, shipped, "problem")
+
+
+def resolve_shipped(name: str) -> str:
+    """A file as `check` takes it: a path, else a shipped domain or mechanism (`basis`,
+    `edge`), else a shipped example problem."""
+    try:
+        return resolve_domain(name)
+    except PddlError:
+        return resolve_problem(name)
