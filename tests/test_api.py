@@ -61,3 +61,12 @@ def test_bad_names_raise_one_clear_error():
         Planner("basis", mechanisms=["hok"])
     with pytest.raises(PddlError, match="basis.pdl: error: cannot read file"):
         Planner("basis.pdl")
+
+
+@pytest.mark.slow
+def test_bench_api_plans_and_replays_the_same_problems_both_ways():
+    from pdsketch_mech.bench import api
+    figures = api.measure_api("com", 2, 0, 120.0)
+    assert len(figures["api_s"]) == len(figures["processes_s"]) == 2
+    assert figures["api_total_s"] > 0 and figures["processes_total_s"] > 0
+    assert api.report(figures)[0].startswith("api: 2 com problems")

@@ -249,7 +249,7 @@ def test_a_10_mb_problem_checks_in_5_s_and_300_mb(tmp_path):
     assert path.stat().st_size > 10e6
     # The child reports its own peak (VmHWM): getrusage's maxrss would include the pytest
     # process it was forked from, which Linux carries across exec.
-    script = ("import sys; from pdsketch_mech import check; status = check.main(sys.argv[1:]); "
+    script = ("import sys; from pdsketch_mech.commands import check; status = check.main(sys.argv[1:]); "
               "print(status, next(l.split()[1] for l in open('/proc/self/status') if l.startswith('VmHWM')))")
     started = time.perf_counter()
     # 1.2 M blocks stack in 1.4e12 ways: past --max-ground's default, but this test is about reading

@@ -36,7 +36,7 @@ def _in_process(fragment: str, problems: List[str], timeout: float, seed: int) -
     planner = Planner(fragment)   # loading once is part of what the API costs
     times = []
     for index, problem in enumerate(problems):
-        document = planner.plan(problem, timeout=timeout, seed=seed + index)
+        document = planner.plan(problem, timeout=timeout, seed=seed + index, validate=True)
         if document["status"] != "solved" or not document["replay"]["goal_reached"]:
             raise BenchError(f"api: {os.path.basename(problem)}: {document['reason']}")
         now = time.perf_counter()
