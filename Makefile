@@ -34,7 +34,7 @@ setup: $(STAMP)
 # An editable install in setuptools' compat mode puts the checkout on sys.path with a plain
 # .pth line: the default mode's import hook runs at every interpreter start-up, before any
 # Ctrl-C handler can be installed, and costs every command start-up time.
-$(STAMP): setup.cfg pyproject.toml constraints.txt Makefile
+$(STAMP): setup.cfg setup.py pyproject.toml constraints.txt Makefile
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[test]' --config-settings editable_mode=compat
 	touch $@
