@@ -66,8 +66,9 @@ class Trajectory:
 
 def approach_axis(tcp: Pose) -> np.ndarray:
     """The gripper frame's z axis (the approach direction) in the world."""
-    x, y, z, w = tcp[1]
-    return np.array([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)])
+    import pybullet as p   # here, not above: reading a plan's values needs no simulator
+    # PyBullet's own rotation, not a numpy formula: the last bits differ, and plans follow them.
+    return np.array(p.getMatrixFromQuaternion(tcp[1])).reshape(3, 3)[:, 2]
 
 
 # The basis operators and the values each is executed with (its trajectory last).
