@@ -14,7 +14,6 @@ import sys
 from typing import Any, Callable, Dict, List, NoReturn, Optional, Sequence
 
 from ..lang.errors import PddlError, PddlWarning, escape
-from ..planner.plan_document import plan_document
 from ..util import process
 from ..util.files import write_json
 
@@ -238,4 +237,5 @@ def _same_file(a: str, b: str) -> bool:
 def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: int,
                     plan: List[Dict[str, Any]], stats: Dict[str, Any], problem: str) -> None:
     """Write the `plan --json` document (planner/plan_document.py) atomically."""
+    from ..planner.plan_document import plan_document   # here: a command's start-up needs none of it
     write_json(path, plan_document(status, reason, time_s, seed, plan, stats, problem))

@@ -1,4 +1,4 @@
-"""Learning mechanisms: demonstrations are recorded (`recording.py`), segmented by contact
+"""Learning mechanisms: recorded demonstrations (`world/recording.py`) are segmented by contact
 modes and lifted to a mechanism fragment (`extract.py`); self-play labels the generic samplers'
 values (`selfplay*.py`); classifiers are trained on them (`sampler_*.py`) and evaluated
-(`evaluate.py`). The `learn` command's subcommands live in `*_command.py`."""
+(`evaluate.py`). The `learn` command is `commands/learn*.py`."""

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 from functools import lru_cache
-from importlib import resources
 from typing import Optional
 
 SHIPPED = ("assets", "domains", "problems")
@@ -33,6 +32,8 @@ def data_root() -> str:
     root = checkout_root()
     if root is not None:
         return root
+    from importlib import resources   # here: a checkout's commands start without it
+
     # A wheel is installed as plain files, which PyBullet and trimesh need: no zip imports.
     return str(resources.files("pdsketch_mech") / "data")
 
