@@ -15,9 +15,8 @@ from typing import List, Optional, Sequence, Tuple
 
 from ..lang.errors import PddlError
 from ..lang.loader import declared_domain_name, load_domain, load_problem
-from ..learning.paths import resolve_domain, resolve_problem, shipped_mechanisms
+from ..learning.paths import resolve_domain, resolve_problem, shipped_mechanisms, shipped_problems
 from ..planner.plan_document import load_plan
-from ..util.data import data_path
 from .common import (
     ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, camera_options, camera_view, output_error, print_error,
     print_warning,
@@ -66,8 +65,7 @@ def sort_inputs(files: Sequence[str]) -> Tuple[str, str, List[str]]:
 
 def _names_only_a_domain(name: str) -> bool:
     """`basis`, or a shipped mechanism's name that is no shipped example problem's."""
-    examples = {os.path.splitext(f)[0] for f in os.listdir(data_path("problems"))}
-    return name == "basis" or (name in shipped_mechanisms() and name not in examples)
+    return name == "basis" or (name in shipped_mechanisms() and name not in shipped_problems())
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -95,17 +93,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
-    from ..operators.execution import FrameRecorder  # the simulator: only for a valid plan
-    from ..planner.replay import replay
-    from ..world.render import save_gif
+    from ..api.planner import replay_entries   # the simulator: only for a valid plan
 
     try:
-        recorder = FrameRecorder(view=camera_view(args)) if args.render else None
-        result = replay(domain, problem, steps, recorder=recorder)
+        result = replay_entries(domain, problem, steps, args.render, camera_view(args))
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
-    if args.render:
-        save_gif(recorder.frames, args.render)
     print(f"replay: {len(steps)} steps; {result.message}", file=sys.stderr)
     return EXIT_OK if result.goal_reached else EXIT_UNSOLVED

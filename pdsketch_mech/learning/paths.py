@@ -53,11 +53,14 @@ def resolve_mechanisms(names: Union[str, Sequence[str]]) -> List[str]:
     return [_resolve(name, MECHANISMS_DIR, shipped, "mechanism") for name in names]
 
 
+def shipped_problems() -> List[str]:
+    """The example problems that come with the package, by name."""
+    return sorted(os.path.splitext(name)[0] for name in os.listdir(data_path("problems")) if name.endswith(".pddl"))
+
+
 def resolve_problem(name: str) -> str:
     """A problem file, or the name of a shipped example problem (`hook-use`)."""
-    folder = data_path("problems")
-    shipped = sorted(os.path.splitext(f)[0] for f in os.listdir(folder) if f.endswith(".pddl"))
-    return _resolve(name, folder, shipped, "problem")
+    return _resolve(name, data_path("problems"), shipped_problems(), "problem")
 
 
 def resolve_shipped(name: str) -> str:
