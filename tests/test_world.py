@@ -374,3 +374,38 @@ def test_a_pairs_normal_comes_from_its_closest_points():
     assert pair_normal_z([0.0] * 4 + [0.0015] * 10, up + side) == pytest.approx(1.0)
     # Points equally close all count: a block leaning on a wall as much as resting is touching.
     assert pair_normal_z([0.0] * 14, up + side) == pytest.approx(4 / 14)
+
+
+def test_the_robot_stands_on_a_mount_from_the_floor_to_its_base():
+    """The pedestal is a body of the world, under the base, clear of the table and of the base."""
+    import pybullet as p
+    with table_world() as world:
+        low, high = p.getAABB(world.mount, physicsClientId=world.client)
+        base_low, base_high = p.getAABB(world.robot, -1, physicsClientId=world.client)
+        assert low[2] < -0.7 and -0.01 < high[2] <= base_low[2] + 0.01
+        assert low[0] <= base_low[0] and high[0] >= base_high[0] - 0.01       # under the whole base
+        table_low, _ = p.getAABB(world.bodies["table"].id, physicsClientId=world.client)
+        assert high[0] < table_low[0]                                          # clear of the table's edge
+        assert all(c[8] >= 0 for c in p.getClosestPoints(world.mount, world.robot, 0.0, physicsClientId=world.client))
+
+
+def test_a_movable_object_inside_the_mount_is_refused_by_name():
+    problem = parse_text("""(define (problem p) (:domain mech-basis) (:objects table a - item)
+      (:init (handempty)) (:goal (handempty))
+      (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+              (a :asset "block/0" :position (-0.05 0 -0.3))))""")
+    with pytest.raises(PddlError, match="overlaps the robot's mount"):
+        build_world(problem)
+
+
+def test_a_held_object_in_the_mount_collides_and_the_check_names_it():
+    """Collision checks see the pedestal: a held block that the hand holds inside it collides."""
+    import pybullet as p
+    with table_world(("held", "block/0", 0.5, 0.0)) as world:
+        q = world.arm()
+        assert not CollisionChecker(world).collides(q)
+        inside = ((-0.05, 0.0, -0.3), (0.0, 0.0, 0.0, 1.0))   # in the pedestal, under the base
+        hand = world.hand_pose()
+        world.attach("held", in_hand=p.multiplyTransforms(*p.invertTransform(*hand), *inside))
+        assert CollisionChecker(world).collides(q)
+        assert "the robot's mount" in CollisionChecker(world).colliding_bodies(q)

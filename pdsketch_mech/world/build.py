@@ -126,9 +126,9 @@ def check_range(obj: SceneObject, robot_base: Sequence[float], position: Optiona
 
 
 def check_overlaps(world: World, supports: Optional[Dict[str, Optional[str]]] = None) -> None:
-    """No two bodies, and no body and the robot, interpenetrate by more than `OVERLAP`. An
-    object sunk into the support it is `:on` (`supports`: name -> its support) is blamed,
-    and told the z at which it would rest there."""
+    """No two bodies, and no body and the robot (or a movable body and the robot's mount),
+    interpenetrate by more than `OVERLAP`. An object sunk into the support it is `:on`
+    (`supports`: name -> its support) is blamed, and told the z at which it would rest there."""
     supports = supports or {}
     bodies = list(world.bodies.values())
     for i, body in enumerate(bodies):
@@ -155,6 +155,11 @@ def check_overlaps(world: World, supports: Optional[Dict[str, Optional[str]]] = 
             deepest = min(points, key=lambda c: c[8])
             raise SceneError(body.name, f"overlaps the robot ({_link_name(world, deepest[4])}) by "
                                         f"{depth * 100:.1f} cm at its scene pose")
+        if not body.fixed:   # furniture may stand against the pedestal; a movable object may not be in it
+            depth = _depth(p.getClosestPoints(body.id, world.mount, 0.0, physicsClientId=world.client))
+            if depth > OVERLAP:
+                raise SceneError(body.name, f"overlaps the robot's mount (the pedestal under its base) by "
+                                            f"{depth * 100:.1f} cm at its scene pose")
 
 
 def check_supported(world: World) -> None:

@@ -58,6 +58,7 @@ class CollisionChecker:
         self.collides(q)
         names = {body.id: name for name, body in world.bodies.items()}
         names[world.robot] = "robot"
+        names[world.mount] = "the robot's mount"
         hit = set()
         for body_id in [world.robot] + ([world.bodies[world.attachment.name].id] if world.attachment else []):
             for contact in p.getContactPoints(bodyA=body_id, physicsClientId=world.client):

@@ -30,6 +30,13 @@ REACH = 0.82             # no flange is farther than this from the shoulder (FK 
 
 Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]  # (xyz, quaternion xyzw)
 
+# The pedestal the arm is bolted to, in the base frame: from the floor (the table is 0.75 m
+# high) up to just under the base link, a little wider than its footprint, and clear of the
+# table's near edge (0.1 m in front of the base).
+MOUNT_MIN = (-0.17, -0.11, -0.75)
+MOUNT_MAX = (0.08, 0.11, -0.002)
+MOUNT_RGBA = (0.35, 0.35, 0.38, 1.0)
+
 
 def rotation_angle(a: Sequence[float], b: Sequence[float]) -> float:
     """The angle (radians) of the rotation between unit quaternions `a` and `b`."""
@@ -47,6 +54,19 @@ def load_panda(client: int, base: Pose = ((0, 0, 0), (0, 0, 0, 1)), self_collisi
     flags |= 0 if visual else p.URDF_IGNORE_VISUAL_SHAPES
     flags |= 0 if collision else p.URDF_IGNORE_COLLISION_SHAPES
     return p.loadURDF(PANDA_URDF, base[0], base[1], useFixedBase=True, flags=flags, physicsClientId=client)
+
+
+def load_mount(client: int, base: Pose = ((0, 0, 0), (0, 0, 0, 1)), visual: bool = True) -> int:
+    """The pedestal under the arm's base: a static box, in the physics, in collision checks
+    and in renders (a robot floating beside the table would let the arm pass where its
+    column stands)."""
+    half = [(hi - lo) / 2 for lo, hi in zip(MOUNT_MIN, MOUNT_MAX)]
+    centre = [(hi + lo) / 2 for lo, hi in zip(MOUNT_MIN, MOUNT_MAX)]
+    position, orientation = p.multiplyTransforms(base[0], base[1], centre, (0, 0, 0, 1))
+    shape = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=client)
+    look = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=MOUNT_RGBA,
+                               physicsClientId=client) if visual else -1
+    return p.createMultiBody(0.0, shape, look, position, orientation, physicsClientId=client)
 
 
 def disable_touching_self_pairs(client: int, robot: int) -> List[Tuple[int, int]]:

@@ -20,7 +20,7 @@ import pybullet as p
 from ..lang.scene import SceneObject
 from .attachment import Attachment, compose, create_attachment, hand_inertial, held_pose, relative_pose, release
 from .robot import (ARM_JOINTS, FINGER_JOINTS, HAND_LINK, HOME, MAX_OPENING, REACH, SHOULDER, TCP_LINK, WRIST,
-                    Kinematics, Pose, disable_touching_self_pairs, load_panda, rotation_angle)
+                    Kinematics, Pose, disable_touching_self_pairs, load_mount, load_panda, rotation_angle)
 from .snapshot import (Collider, Snapshot, collider_groups, reset_contact_caches, restore_snapshot, set_check_groups,
                        take_snapshot)
 
@@ -62,6 +62,7 @@ class World:
         # depends on where links were when last detected: a restore must not depend on it).
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=self.client)
         self.robot = load_panda(self.client, robot_base, visual=self.visual)
+        self.mount = load_mount(self.client, robot_base, visual=self.visual)
         self.kinematics = Kinematics(robot_base)
         self.bodies: Dict[str, Body] = {}
         self.attachment: Optional[Attachment] = None
@@ -305,7 +306,8 @@ class World:
     @property
     def colliders(self) -> Tuple[Collider, ...]:
         if self._colliders is None:
-            self._colliders = collider_groups(self.robot, {b.id: b.fixed for b in self.bodies.values()}, self.client)
+            fixed = {self.mount: True, **{b.id: b.fixed for b in self.bodies.values()}}
+            self._colliders = collider_groups(self.robot, fixed, self.client)
         return self._colliders
 
     def snapshot(self) -> Snapshot:
