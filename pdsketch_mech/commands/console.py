@@ -1,10 +1,9 @@
 """The console scripts pip installs (`pdsketch-plan`, `pdsketch-check`, ...): the same programs
 as `python -m pdsketch_mech.NAME`. `util/early.py` recognises their processes as commands."""
-import sys
 from importlib import import_module
 from typing import NoReturn
 
-from .common import run, run_and_exit
+from .common import run_and_exit
 
 
 def _run(name: str) -> NoReturn:
@@ -32,4 +31,4 @@ def learn() -> NoReturn:
 
 
 def demo() -> NoReturn:
-    sys.exit(run(import_module("pdsketch_mech.commands.demo").main))   # as `python -m pdsketch_mech.demo`
+    _run("demo")

@@ -1,8 +1,13 @@
 """`python -m pdsketch_mech.demo record|show|list`: scripted demonstrations, recorded as raw
 simulation data, and pictures of recordings.
 
+    record FILE.demo.json|FILE.py [--seed N] [--out DIR] [--force] [--render FILE.gif] [--strip FILE.png]
+        Perform a demonstration of your own (docs/demonstrations.md) in the scene of its problem
+        file and record it into DIR/STEM.npz + STEM.json (default DIR: the demonstration's
+        folder; with --seed, on a perturbed scene, STEM-seed-N.*). Exit 2 with one located
+        line for a malformed file, 1 if a step cannot be done or the goal does not hold.
     record NAME [--seed N] [--split train|dev|test] [--variant V] [--out DIR] [--force] [--render FILE.gif] [--strip FILE.png]
-        Run the scripted demonstration NAME (a task: edge, hook, lever, poking, com,
+        Run the built-in scripted demonstration NAME (a task: edge, hook, lever, poking, com,
         slope-blocker) on the task's canonical instance, or with --seed on one with perturbed
         poses, recording the world at 60 Hz into DIR/NAME.npz + DIR/NAME.json (default DIR:
         domains/mechanisms/demos; created with its parents if missing; with --seed the files
@@ -38,11 +43,20 @@ def _folder_ok(path: Optional[str]) -> bool:
     return path is None or os.path.isdir(os.path.dirname(os.path.abspath(path)))
 
 
+def is_user_demo(name: str) -> bool:
+    """A demonstration file or script (a path), not a built-in demonstration's name."""
+    return name.endswith((".json", ".py")) or os.sep in name or os.path.isfile(name)
+
+
 def record(args) -> int:
     from ..envs.demos.run import DEMOS
     from ..envs.tasks import TASKS
     from ..world.recording import RecordingExists, recording_paths, save_recording
 
+    if is_user_demo(args.name):
+        from .demo_user import record_user
+        return record_user(args)
+    args.split = args.split or "train"
     if args.name in TASKS and args.name not in DEMOS:
         return fail(f"task '{args.name}' has no demonstration: it is solved by composing the learned "
                     f"mechanisms; demonstrations: {', '.join(DEMOS)}")
@@ -160,12 +174,15 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = ArgumentParser(prog="python -m pdsketch_mech.demo", description=__doc__.split("\n\n")[0])
     commands = parser.add_subparsers(dest="command", parser_class=ArgumentParser)
     rec = commands.add_parser("record", help="run and record a scripted demonstration")
-    rec.add_argument("name", metavar="NAME", help="the demonstration (a task name)")
+    rec.add_argument("name", metavar="NAME|FILE", help="a built-in demonstration (a task name), or a demonstration "
+                                                       "file (.demo.json) or script (.py) of your own")
     rec.add_argument("--seed", type=whole, help="perturb the canonical instance's poses with this seed")
-    rec.add_argument("--split", default="train", choices=("train", "dev", "test"))
+    rec.add_argument("--split", choices=("train", "dev", "test"), help="built-in demonstrations: the split whose "
+                                                                         "random stream --seed draws from (default train)")
     rec.add_argument("--variant", choices=("distractor-push",),
                      help="record a variant of the demo (distractor-push: push an extra block aside first)")
-    rec.add_argument("--out", metavar="DIR", help="folder, created if missing (default domains/mechanisms/demos)")
+    rec.add_argument("--out", metavar="DIR", help="folder, created if missing (default: domains/mechanisms/demos, "
+                                                  "or your demonstration's folder)")
     rec.add_argument("--force", action="store_true", help="replace an existing recording")
     rec.add_argument("--render", metavar="FILE.gif", help="also render the recording")
     rec.add_argument("--strip", metavar="FILE.png", help="also draw its key frames with contacts")

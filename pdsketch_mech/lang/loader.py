@@ -19,6 +19,10 @@ from .nodes import Domain, Problem
 from .parser import parse_file
 from .typecheck import TypeTable, check_domain, check_problem
 
+# `(:extends "basis")` names the shipped basis domain (when no file of that name is beside the
+# fragment): a user's fragment then works wherever the package is installed.
+SHIPPED_BASIS = "basis"
+
 
 @dataclass(frozen=True)
 class LoadedDomain:
@@ -71,6 +75,8 @@ def _collect(path: str, out: List[Tuple[str, Domain]], stack: Tuple[str, ...]) -
     domain = read_domain_file(path)
     for base in domain.extends:
         base_path = os.path.normpath(os.path.join(os.path.dirname(path), base))
+        if not os.path.isfile(base_path) and base == SHIPPED_BASIS:
+            base_path = data_path("domains", "basis.pddl")
         if not os.path.isfile(base_path):
             raise PddlError(f"extended domain file '{base}' not found (looked for {base_path})", domain.loc)
         if os.path.realpath(base_path) in stack + (key,):

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 from typing import Dict, List, Optional, Sequence, Set
 
 from ..lang.errors import PddlError
-from ..lang.loader import load_domain
+from ..lang.loader import SHIPPED_BASIS, load_domain
 from ..lang.nodes import Domain, Formula, Problem
 from ..lang.parser import parse_text
 from ..lang.writer import formula, write_domain
@@ -85,10 +85,15 @@ def extract(recording: Recording, name: str, source: str = "", basis: Optional[D
 def fragment_domain(extraction: Extraction, out_path: str, basis_path: str = BASIS,
                     sampler: Optional[str] = None) -> Domain:
     basis, folder = os.path.abspath(basis_path), os.path.dirname(os.path.abspath(out_path))
-    # Relative when the two share more than the file system's root (a committed fragment
-    # must not name this checkout's absolute path); absolute otherwise.
-    shared = os.path.commonpath([basis, folder])
-    extends = os.path.relpath(basis, folder) if shared != os.path.dirname(shared) else basis
+    # A fragment among the shipped domains names the basis by its relative path; anywhere else
+    # by the shipped name (never this checkout's or installation's absolute path).
+    shipped = os.path.abspath(basis_path) == os.path.abspath(BASIS)
+    inside = os.path.commonpath([os.path.dirname(basis), folder]) == os.path.dirname(basis)
+    if shipped and not inside:
+        extends = SHIPPED_BASIS
+    else:
+        shared = os.path.commonpath([basis, folder])
+        extends = os.path.relpath(basis, folder) if shared != os.path.dirname(shared) else basis
     mechanism = replace(extraction.lifted.mechanism, sampler=sampler)
     return Domain(extraction.name, requirements=(":mechanisms",), extends=(extends.replace(os.sep, "/"),),
                   mechanisms=(mechanism,))

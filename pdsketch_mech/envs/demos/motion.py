@@ -10,7 +10,7 @@ holds it) and fingers closed on it (`operators/execution.set_fingers_dynamic`).
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Callable, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
@@ -60,9 +60,11 @@ class Driver:
         self.seed = seed
 
     # ------------------------------------------------------------------ primitives
-    def follow(self, path: Sequence[Sequence[float]], steps: int = STEPS_PER_WAYPOINT) -> None:
+    def follow(self, path: Sequence[Sequence[float]], steps: int = STEPS_PER_WAYPOINT,
+               stop: Optional[Callable[[], bool]] = None) -> bool:
         """Drive the joints through `path` with the position controllers, then wait until
-        the arm is there (or blocked)."""
+        the arm is there (or blocked). `stop`, asked after every physics step, ends the
+        motion where the arm is; returns whether it did."""
         world = self.world
         # The controllers' targets move smoothly from waypoint to waypoint, one physics step at
         # a time: stop-and-go targets would make a push touch and let go at every waypoint.
@@ -71,12 +73,16 @@ class Driver:
             for k in range(1, steps + 1):
                 world.arm_targets = a + (b - a) * (k / steps)
                 world.step()
+                if stop is not None and stop():
+                    world.arm_targets = world.arm()
+                    return True
         if len(path):
             world.arm_targets = np.asarray(path[-1], dtype=float)
         for _ in range(MAX_WAIT // 4):
             if float(np.max(np.abs(world.arm() - world.arm_targets))) < TRACKING:
                 break
             world.step(4)
+        return False
 
     def approach(self, target: Sequence[float], orientations: Sequence[Sequence[float]], back: float = 0.08,
                  ignore: Sequence[str] = (), direction: Optional[Sequence[float]] = None) -> int:
@@ -137,9 +143,11 @@ class Driver:
             raise DemoError(f"no free motion to the gripper at {where}: {result.reason}")
         self.follow(result.path)
 
-    def line(self, direction: Sequence[float], distance: float, steps: int = LINE_STEPS, planned: bool = False) -> None:
+    def line(self, direction: Sequence[float], distance: float, steps: int = LINE_STEPS, planned: bool = False,
+             stop: Optional[Callable[[], bool]] = None) -> bool:
         """The gripper straight along `direction` for `distance` metres, orientation kept
-        (`planned`: if no straight motion exists, a planned one to the same end will do)."""
+        (`planned`: if no straight motion exists, a planned one to the same end will do).
+        `stop` (see `follow`) may end it earlier; returns whether it did."""
         remaining = distance
         while remaining > 1e-4:
             # A long line can fail where IK from one waypoint to the next jumps branches: then
@@ -154,11 +162,13 @@ class Driver:
                 path = self._joint_line(direction, piece)
             if path is None and planned:
                 self._planned_line(direction, remaining)
-                return
+                return False
             if path is None:
                 raise DemoError(f"no straight motion of {distance:.3f} m along {np.round(direction, 2).tolist()}")
-            self.follow(path, steps)
+            if self.follow(path, steps, stop):
+                return True
             remaining -= piece
+        return False
 
     def _planned_line(self, direction: Sequence[float], distance: float) -> None:
         """Where no straight motion exists (a wrist at its limit): a planned free motion to the

@@ -41,7 +41,7 @@ def goal_holds(goal: Formula, facts: Set[Tuple[str, ...]], problem: Problem) -> 
 
 @dataclass
 class DemoResult:
-    instance: Instance
+    instance: Optional[Instance]      # None for a user's demonstration (its problem file is the scene)
     problem: Problem
     goal_reached: bool
     facts: Set[Tuple[str, ...]]
@@ -60,15 +60,11 @@ def demo_instance(name: str, split: str = "train", seed: Optional[int] = None) -
     return sample(get_task(name), split, seed, vary_assets=False)
 
 
-def run_demo(name: str, instance: Optional[Instance] = None, record: bool = True,
-             on_world: Optional[Callable[[World], None]] = None) -> DemoResult:
-    """Build the instance's world, let it rest, run the script (recording every 4 steps),
-    settle, and read the goal off the contact graph. Script failures are reported in
-    `error`, never raised."""
-    if name not in DEMOS:
-        raise KeyError(f"unknown demo {name!r}; demos: {', '.join(DEMOS)}")
-    instance = instance or demo_instance(name)
-    problem = parse_text(instance.problem_text(), file=f"{instance.name}.pddl")
+def perform(problem: Problem, act: Callable[[World], None], record: bool = True,
+            instance: Optional[Instance] = None, errors: Tuple[type, ...] = (DemoError,)) -> DemoResult:
+    """Build `problem`'s world, let it rest, run `act` on it (recording every 4 steps),
+    settle, and read the goal off the contact graph. Exceptions of the `errors` types are
+    reported in `error`, never raised."""
     start = time.perf_counter()
     with build_world(problem) as world:
         world.step(SETTLE_BEFORE)
@@ -76,11 +72,9 @@ def run_demo(name: str, instance: Optional[Instance] = None, record: bool = True
         steps0 = world.sim_steps
         error = ""
         try:
-            if on_world:
-                on_world(world)
-            DEMOS[name](world, instance, Driver(world))
+            act(world)
             world.settle()
-        except DemoError as exc:
+        except errors as exc:
             error = str(exc)
         if recorder:
             recorder.stop()
@@ -92,6 +86,22 @@ def run_demo(name: str, instance: Optional[Instance] = None, record: bool = True
             result.extra["arrays"] = recorder.arrays()
             result.extra["header"] = recorder.header(rested_steps_before=SETTLE_BEFORE)
     return result
+
+
+def run_demo(name: str, instance: Optional[Instance] = None, record: bool = True,
+             on_world: Optional[Callable[[World], None]] = None) -> DemoResult:
+    """A built-in scripted demonstration on `instance` (default: the canonical one), see
+    `perform`; `on_world` runs first."""
+    if name not in DEMOS:
+        raise KeyError(f"unknown demo {name!r}; demos: {', '.join(DEMOS)}")
+    instance = instance or demo_instance(name)
+    problem = parse_text(instance.problem_text(), file=f"{instance.name}.pddl")
+
+    def act(world: World) -> None:
+        if on_world:
+            on_world(world)
+        DEMOS[name](world, instance, Driver(world))
+    return perform(problem, act, record, instance)
 
 
 def record_demo(name: str, split: str = "train", seed: Optional[int] = None) -> DemoResult:
