@@ -70,8 +70,8 @@ def test_anchor_words_are_checked_before_any_world_exists():
     ([{"do": "lift", "distance": "far"}], "step 1 (lift): distance: expected a distance in metres (>= 0), got \"far\""),
     ([{"do": "open", "speed": 1}], "step 1 (open): unknown field 'speed'"),
     ([{"do": "line", "direction": "down"}], "step 1 (line): give a distance, a point to go \"to\""),
-    ([{"do": "move", "to": {"object": "flat", "at": "abvoe"}}], "step 1 (move): to: at: unknown face 'abvoe'"),
-    ([{"do": "move", "to": {"object": "flat", "offset": {"beyond": 1}}}], "step 1 (move): to: offset: unknown offset 'beyond'"),
+    ([{"do": "move", "to": {"object": "flat", "at": "abvoe"}}], "step 1 (move): to.at: unknown face 'abvoe'"),
+    ([{"do": "move", "to": {"object": "flat", "offset": {"beyond": 1}}}], "step 1 (move): to.offset: unknown offset 'beyond'"),
     ([{"do": "line", "direction": [0, 0, 0], "distance": 0.1}], "step 1 (line): direction: the direction [0, 0, 0] has no length"),
     ([{"do": "grasp", "object": "flat", "fingers": 3}], "step 1 (grasp): fingers: expected 1 or 2"),
 ])
@@ -90,8 +90,8 @@ def test_the_location_is_the_step_line_and_column(tmp_path):
 
 
 @pytest.mark.parametrize("text, expected", [
-    ('{"format": 1, "steps": [{"do": "open"},]}', ":1:40: error: not JSON"),
-    ('{"steps": [{"do": "open"}]}', "error: format: expected \"format\": 1"),
+    ('{"format": 1, "steps": [{"do": "open"},]}', ":1:40: error: not JSON: Expecting value (a comma before ']'?"),
+    ('{"steps": [{"do": "open"}]}', "error: format: expected \"format\": 1 (the only format there is); it is missing"),
     ('{"format": 1, "stpes": []}', "error: unknown field 'stpes' (did you mean 'steps'?)"),
     ('{"format": 1, "steps": []}', "error: steps: expected a non-empty list of steps"),
     ('[1, 2]', ":1:1: error: a demonstration is a JSON object"),
@@ -127,13 +127,30 @@ def test_a_step_that_fails_in_simulation_names_it_and_exits_1(tmp_path, capsys):
 def test_an_unreachable_pose_names_its_step(tmp_path, capsys):
     path = write_demo(tmp_path, [{"do": "move", "to": [2.0, 0.0, 0.3]}])
     status, line = record(path, capsys)
-    assert status == 1 and "step 1 (move): no way to approach the gripper pose" in line, line
+    assert status == 1 and "step 1 (move): no way to approach the gripper pose at [2.0, 0.0, 0.3]: it is 2.00 m " \
+                           "from the robot's shoulder, beyond its reach (0.82 m)" in line, line
+
+
+def test_a_blocked_pose_names_what_the_arm_would_hit(tmp_path, capsys):
+    # Fingertips 1 cm inside the calculator, coming from above.
+    path = write_demo(tmp_path, [{"do": "open"}, {"do": "move", "to": {"object": "flat", "at": "top",
+                                                                        "offset": {"down": 0.01}}}])
+    status, line = record(path, capsys)
+    assert status == 1 and "step 2 (move): no way to approach" in line and "would hit 'flat'" in line, line
+
+
+def test_until_touches_explains_what_touching_means(tmp_path, capsys):
+    path = write_demo(tmp_path, [{"do": "close"}, {"do": "line", "direction": "up", "distance": 0.05,
+                                                   "until": {"touches": "flat"}}])
+    status, line = record(path, capsys)
+    assert status == 1 and "neither the hand nor what it holds touched 'flat'" in line and '{"moves": "flat"}' in line
 
 
 def test_a_demonstration_that_misses_its_goal_says_so(tmp_path, capsys):
     path = write_demo(tmp_path, [{"do": "close"}, {"do": "lift", "distance": 0.02}])
     status, line = record(path, capsys)
-    assert status == 1 and "the goal (holding flat) does not hold at the end" in line, line
+    assert status == 1 and line.startswith(f"{path}: error: every step was done, but the goal (holding flat) "
+                                           "does not hold at the end"), line
 
 
 def test_a_failing_script_is_located_at_its_line(tmp_path, capsys):
@@ -173,6 +190,45 @@ def test_the_worked_example_plans_with_its_mechanism(tmp_path, capsys):
                             "--json", plan])
     assert status == 0
     assert any(step.get("mechanism") == "push-to-edge" for step in json.load(open(plan))["plan"])
+
+
+def test_a_hook_written_as_a_file_extracts_to_the_shipped_hook(tmp_path, capsys):
+    """Written by a new user from the docs alone: the same steps as the built-in script's."""
+    for name in ("hook.pddl", "hook.demo.json"):
+        shutil.copy(os.path.join(EXAMPLES, name), tmp_path / name)
+    status, line = record(str(tmp_path / "hook.demo.json"), capsys, "--seed", "1")
+    assert status == 0, line
+    assert learn_cli.main(["extract", str(tmp_path / "hook-seed-1"), "--out", str(tmp_path / "hook.mech.pddl")]) == 0
+    assert "4 steps (grasp hook table) (move-cont hook box table) (place hook table) (grasp box table)" \
+        in capsys.readouterr().err
+
+
+STACK = """(define (problem stack) (:domain mech-basis) (:objects table cube tower - item)
+  (:init (handempty) (fixed table) (support cube table) (support tower table))
+  (:goal (and (support cube tower) (handempty)))
+  (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+          (cube :asset "block/0" :position (0.45 0.15) :rpy-deg (0 0 30) :on table)
+          (tower :asset "block/2" :position (0.5 -0.12) :on table)))"""
+
+
+def test_put_carries_the_held_object_point_to_point_and_turns_it(tmp_path, capsys):
+    (tmp_path / "stack.pddl").write_text(STACK)
+    path = tmp_path / "stack.demo.json"
+    path.write_text(json.dumps({"format": 1, "steps": [
+        {"do": "open"}, {"do": "move", "to": {"object": "cube"}}, {"do": "grasp", "object": "cube"},
+        {"do": "lift", "distance": 0.1},
+        {"do": "put", "at": {"object": "tower", "at": "top", "offset": {"up": 0.003}}, "turn": 20},
+        {"do": "release"}, {"do": "lift", "distance": 0.05}]}))
+    status, line = record(str(path), capsys)
+    assert status == 0, line
+    from pdsketch_mech.world.recording import load_recording
+    recording = load_recording(str(tmp_path / "stack"))
+    cube, tower = (recording.objects.index(n) for n in ("cube", "tower"))
+    last = recording.arrays["poses"][-1]
+    assert np.linalg.norm(last[cube][:2] - last[tower][:2]) < 0.01          # centred on the tower
+    import pybullet as p
+    yaw = np.degrees(p.getEulerFromQuaternion(last[cube][3:])[2])
+    assert abs(((yaw - 50.0) + 45.0) % 90.0 - 45.0) < 4.0                    # 30 degrees, turned by 20
 
 
 def test_an_existing_recording_is_kept_without_force(tmp_path, capsys):

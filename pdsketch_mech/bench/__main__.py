@@ -211,6 +211,11 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     task = args.task or task_of(fragment, args.name)
     if task is None:
         raise ipc.BenchError(f"{args.name}: no task distribution of that name or of its demonstration; give --task")
+    from ..envs.task_file import TaskFileError, resolve_task
+    try:
+        resolve_task(task)
+    except (KeyError, TaskFileError) as exc:
+        raise ipc.BenchError(str(exc).strip("'\"").split(": error: ")[-1]) from None
     report = samplers.report_of(fragment, args.name) if args.report else None
     paper_commands.warn_if_test(args.split)
     keep = _keep_folder(args.keep)

@@ -52,10 +52,10 @@ def instance_jobs(task: str, methods: Sequence[str], trials: int, seed: int, tim
     """Trial i of every method plans the `split` instance of seed `seed + i` with planner
     seed `seed + i + planner_seed_offset`: the methods see the same instances."""
     from ..envs.generate import sample
-    from ..envs.tasks import TASKS
+    from ..envs.task_file import resolve_task
     jobs = []
     for i in range(trials):
-        instance = sample(TASKS[task], split, seed + i)
+        instance = sample(resolve_task(task), split, seed + i)
         text = instance.problem_text()
         jobs += [Job(task, method, i, instance.name, text, domain, mechanisms, seed + i + planner_seed_offset, timeout)
                  for method in methods]

@@ -61,11 +61,11 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
     from concurrent.futures import ThreadPoolExecutor
 
     from ..envs.generate import sample
-    from ..envs.tasks import TASKS
+    from ..envs.task_file import resolve_task
     with tempfile.TemporaryDirectory() as tmp:
         jobs = []
         for k in range(instances):
-            instance = sample(TASKS[task_name], split, seed + k)
+            instance = sample(resolve_task(task_name), split, seed + k)
             held = instance.held_out
             # The planner's seed is the instance's, as in `bench mechanisms`: with one seed for
             # all, the generic sampler's first draws were the same on every instance, and on

@@ -39,6 +39,12 @@ def fail(message: str, status: int = EXIT_BAD_INPUT) -> int:
     return status
 
 
+def shown_path(path: str) -> str:
+    """`path` as a message shows it: relative to the working folder when it is inside it."""
+    relative = os.path.relpath(path)
+    return os.path.abspath(path) if relative.startswith("..") else relative
+
+
 def print_warning(warning: PddlWarning) -> None:
     """The one-line `FILE:LINE:COL: warning: ...` on stderr."""
     print(warning, file=sys.stderr)

@@ -7,7 +7,7 @@ import sys
 import time
 
 from ..lang.errors import PddlError
-from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_folder, print_error
+from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_folder, print_error, shown_path
 
 
 def record_user(args) -> int:
@@ -50,7 +50,7 @@ def record_user(args) -> int:
     if not args.force:
         for path in recording_paths(base):
             if os.path.exists(path):
-                return fail(f"{os.path.relpath(path)} exists (use --force to replace it)")
+                return fail(f"{shown_path(path)} exists (use --force to replace it)")
 
     start = time.perf_counter()
     steps = demo.text.count('"do"') if demo.path.endswith(".json") else None
@@ -91,8 +91,8 @@ def record_user(args) -> int:
             print(result.error if ": error: " in result.error else f"error: {demo.path}: {result.error}",
                   file=sys.stderr)
         else:
-            fail(f"{demo.path}: every step was done, but the goal {goal} does not hold at the end; "
-                 f"contacts: {result.facts_text()}")
+            print(f"{demo.path}: error: every step was done, but the goal {goal} does not hold at the end; "
+                  f"contacts: {result.facts_text()}", file=sys.stderr)
         if args.render or args.strip:   # what happened up to there, to see why (nothing is recorded)
             _draw(Recording(header, result.extra["arrays"]), args.render, args.strip)
         return EXIT_UNSOLVED
@@ -101,7 +101,7 @@ def record_user(args) -> int:
     except RecordingExists as exc:
         return fail(str(exc))
     size = os.path.getsize(npz) + os.path.getsize(js)
-    print(f"wrote {os.path.relpath(npz)} + .json: {header['frames']} frames ({header['duration_s']:.1f} s simulated), "
+    print(f"wrote {shown_path(npz)} + .json: {header['frames']} frames ({header['duration_s']:.1f} s simulated), "
           f"{size / 1e6:.2f} MB; goal {goal} holds; {time.perf_counter() - start:.1f} s", file=sys.stderr)
     if args.render or args.strip:
         _draw(load_recording(npz), args.render, args.strip)

@@ -1,6 +1,7 @@
 """`python -m pdsketch_mech.envs TASK --seed N [--split train|dev|test] [--out FILE [--force]]`: a
-problem file drawn from a task distribution (`--canonical`: the canonical instance; `--list`:
-the tasks).
+problem file drawn from a task distribution, built in or a distribution file NAME.dist.json
+(`--canonical`: the canonical instance; `--list`: the tasks; `--export TASK`: a built-in
+task written as a distribution file).
 
 The same task, split and seed always give the same bytes. An existing --out file is replaced
 only with --force. Exit 0, or 2 with one `error:` line on stderr for a bad request.
@@ -20,7 +21,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from ..envs.tasks import TASKS
 
     parser = ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
-    parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}")
+    parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}; or a distribution "
+                                                                "file (NAME.dist.json, docs/distributions.md)")
     parser.add_argument("--seed", type=whole, help="which instance (a whole number >= 0)")
     parser.add_argument("--split", default="train", choices=SPLITS,
                         help="train: self-play; dev: tuning; test: reported tables only (default train)")
@@ -31,18 +33,30 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--out", metavar="FILE", help="write here (default: stdout)")
     parser.add_argument("--force", action="store_true", help="replace an existing --out file")
     parser.add_argument("--list", action="store_true", help="list the tasks and exit")
+    parser.add_argument("--export", action="store_true",
+                        help="write TASK as a distribution file (every object in full) instead of an instance")
     args = parser.parse_args(argv)
 
     if args.list:
         for task in TASKS.values():
             print(f"{task.name:14s} {task.title}: {task.description}")
         return EXIT_OK
-    error = None
+    from ..envs.task_file import TaskFileError, dump_document, resolve_task, task_document
+
+    error, task = None, None
+    if args.task is not None:
+        try:
+            task = resolve_task(args.task)
+        except KeyError as exc:
+            error = exc.args[0]
+        except TaskFileError as exc:
+            print(exc, file=sys.stderr)
+            return EXIT_BAD_INPUT
     if args.task is None:
         error = "name a task (--list shows them)"
-    elif args.task not in TASKS:
-        error = f"unknown task '{args.task}'; tasks: {', '.join(TASKS)}"
-    elif args.canonical == (args.seed is not None):
+    elif error:
+        pass
+    elif args.canonical == (args.seed is not None) and not args.export:
         error = "give exactly one of --seed N and --canonical"
     elif args.out:
         unwritable = output_error(args.out, "--out")
@@ -55,11 +69,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return EXIT_BAD_INPUT
     from ..envs.generate import sample
 
-    instance = sample(TASKS[args.task], args.split, args.seed, vary_assets=not args.canonical_assets)
-    text = instance.problem_text()
+    if args.export:
+        text, what = dump_document(task_document(task)), f"task {task.name}"
+    else:
+        instance = sample(task, args.split, args.seed, vary_assets=not args.canonical_assets)
+        text, what = instance.problem_text(), instance.name
     if args.out:
         write_text(args.out, text)
-        print(f"wrote {args.out}: {instance.name}", file=sys.stderr)
+        print(f"wrote {args.out}: {what}", file=sys.stderr)
     else:
         sys.stdout.write(text)
     return EXIT_OK

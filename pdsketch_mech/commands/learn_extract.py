@@ -11,7 +11,7 @@ from typing import List, Optional
 from ..lang.errors import PddlError
 from ..learning.paths import NAME, repo_path
 from ..util.files import write_text
-from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_error
+from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_error, shown_path
 
 
 def command_line(demo: str, name: str, out: str, default_out: str) -> str:
@@ -74,11 +74,11 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
             status = "unchanged"
         elif not args.force:
             why = _what_differs(out, existing_text, text, fragment)
-            return fail(f"{os.path.relpath(out)} exists and differs: {why} (use --force to replace it)")
+            return fail(f"{shown_path(out)} exists and differs: {why} (use --force to replace it)")
     if status == "wrote":
         write_text(out, text)
     steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)
-    print(f"{status} {os.path.relpath(out)}: mechanism {name}, {len(extraction.explanation.steps)} steps {steps}; "
+    print(f"{status} {shown_path(out)}: mechanism {name}, {len(extraction.explanation.steps)} steps {steps}; "
           f"{time.perf_counter() - start:.1f} s", file=sys.stderr)
     if args.render:
         frames = _render(extraction, args.render)

@@ -88,10 +88,11 @@ class Instance:
 
     def command(self) -> str:
         """The command line that regenerates this instance."""
+        task = self.task.source or self.task.name
         if self.seed is None:
-            return f"python -m pdsketch_mech.envs {self.task.name} --canonical"
+            return f"python -m pdsketch_mech.envs {task} --canonical"
         extra = "" if self.vary_assets else " --canonical-assets"
-        return f"python -m pdsketch_mech.envs {self.task.name} --split {self.split} --seed {self.seed}{extra}"
+        return f"python -m pdsketch_mech.envs {task} --split {self.split} --seed {self.seed}{extra}"
 
     def init_facts(self) -> List[str]:
         """The contact graph the scene starts in: what rests on what, which bodies are fixed.

@@ -101,6 +101,7 @@ class TaskSpec:
     distractors: Optional[Distractors] = None
     overlaps_ok: Tuple[Tuple[str, str], ...] = ()  # pairs whose footprints may overlap (a block in a tunnel)
     demo: str = ""                                 # what the scripted demonstration does
+    source: str = ""                               # the distribution file it was read from (task_file.py), if any
 
     def object(self, name: str) -> ObjectSpec:
         return next(o for o in self.objects if o.name == name)

@@ -28,7 +28,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..envs.generate import sample
-from ..envs.tasks import TASKS
+from ..envs.task_file import resolve_task
 from .sampler_data import context_groups, param_data
 from .sampler_training import roc_auc, to_batch
 from .selfplay_store import StoreError, read_manifest
@@ -77,7 +77,7 @@ def data_config(folder: str) -> Dict[str, object]:
 def held_out_episodes(folder: str, episodes: Sequence[Dict[str, np.ndarray]]) -> Dict[int, bool]:
     """Episode id -> whether its instance shows a category the task's train split never does."""
     config = data_config(folder)
-    task, split = TASKS[str(config["task"])], str(config["split"])
+    task, split = resolve_task(str(config["task"])), str(config["split"])
     return {int(ep["episode_id"][0]): sample(task, split, int(ep["episode_instance_seed"][0])).held_out
             for ep in episodes}
 

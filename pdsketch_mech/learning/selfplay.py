@@ -35,6 +35,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..envs.generate import sample as sample_instance
+from ..envs.task_file import resolve_task
 from ..envs.tasks import TASKS
 from ..lang.loader import LoadedDomain, load_domain
 from ..lang.nodes import Mechanism, Problem
@@ -159,7 +160,7 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
     rng = np.random.default_rng(planner_seed)
     loaded = _domain(config.fragment)
     mechanism = find_mechanism(loaded, config.mechanism)
-    instance = sample_instance(TASKS[config.task], config.split, instance_seed)
+    instance = sample_instance(resolve_task(config.task), config.split, instance_seed)
     problem = parse_text(instance.problem_text(), file=f"<{instance.name}>")
     assert isinstance(problem, Problem)
     task, placeholders = prepare_task(loaded, problem, use_mechanisms=True)

@@ -75,7 +75,7 @@ def read_demo_file(path: str) -> DemoFile:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise DemoFileError(f"{path}:{exc.lineno}:{exc.colno}: error: not JSON: {exc.msg}") from None
+        raise DemoFileError(f"{path}:{exc.lineno}:{exc.colno}: error: not JSON: {json_hint(text, exc)}") from None
     if not isinstance(data, dict):
         raise DemoFileError(f"{path}:1:1: error: a demonstration is a JSON object with \"format\" and \"steps\"")
     unknown = sorted(set(data) - TOP_FIELDS)
@@ -83,8 +83,8 @@ def read_demo_file(path: str) -> DemoFile:
         raise DemoFileError(f"{path}: error: unknown field '{unknown[0]}'{did_you_mean(unknown[0], TOP_FIELDS)} "
                             f"(fields: {', '.join(sorted(TOP_FIELDS))})")
     if data.get("format") != FORMAT:
-        raise DemoFileError(f"{path}: error: format: expected \"format\": {FORMAT} (the only format there is), "
-                            f"got {json.dumps(data.get('format'))}")
+        got = "it is missing" if "format" not in data else f"got {json.dumps(data['format'])}"
+        raise DemoFileError(f"{path}: error: format: expected \"format\": {FORMAT} (the only format there is); {got}")
     stem = default_stem(path)
     problem = data.get("problem", stem + ".pddl")
     for key in ("problem", "name", "description"):
@@ -105,6 +105,14 @@ def read_demo_file(path: str) -> DemoFile:
             raise DemoFileError(f"{demo.where(step)}: error: step {number} ({step.kind}): {problem_text}")
         demo.steps.append(step)
     return demo
+
+
+def json_hint(text: str, exc: json.JSONDecodeError) -> str:
+    """The parser's message, and the likely slip when it is a trailing comma."""
+    before = text[:exc.pos].rstrip()
+    if before.endswith(",") and text[exc.pos:exc.pos + 1] in ("]", "}"):
+        return f"{exc.msg} (a comma before '{text[exc.pos]}'? JSON allows none after the last item)"
+    return exc.msg
 
 
 def step_positions(text: str) -> List[Tuple[int, int]]:
@@ -152,6 +160,10 @@ def positive(value: Any) -> Optional[str]:
     return problem or (None if value > 0 else "expected a positive number, got 0")
 
 
+def number(value: Any) -> Optional[str]:
+    return _number(value)
+
+
 def name(value: Any) -> Optional[str]:
     return None if isinstance(value, str) and value else f"expected an object's name, got {json.dumps(value)}"
 
@@ -194,7 +206,7 @@ def point(value: Any) -> Optional[str]:
         return vector(value)
     if not isinstance(value, dict):
         return "expected [x, y, z] or {\"object\": NAME, \"at\": FACES, \"offset\": ...}"
-    return _fields(value, {"object": (name, True), "at": (anchor, False), "offset": (offset, False)})
+    return _nested(value, {"object": (name, True), "at": (anchor, False), "offset": (offset, False)})
 
 
 def direction(value: Any) -> Optional[str]:
@@ -206,8 +218,8 @@ def direction(value: Any) -> Optional[str]:
     if not isinstance(value, dict):
         return "expected up, down, [x, y, z], {\"object\": NAME, \"face\": WORD} or {\"from\": POINT, \"to\": POINT}"
     if "face" in value or "object" in value:
-        return _fields(value, {"object": (name, True), "face": (anchor, True), "horizontal": (boolean, False)})
-    return _fields(value, {"from": (point, True), "to": (point, True), "horizontal": (boolean, False)})
+        return _nested(value, {"object": (name, True), "face": (anchor, True), "horizontal": (boolean, False)})
+    return _nested(value, {"from": (point, True), "to": (point, True), "horizontal": (boolean, False)})
 
 
 def boolean(value: Any) -> Optional[str]:
@@ -241,8 +253,8 @@ STEP_FIELDS: Dict[str, Dict[str, Tuple[Check, bool]]] = {
     "lift": {"distance": (distance, True)},
     "lower": {"distance": (distance, True), "speed": (positive, False)},
     "wait": {"seconds": (distance, False)},
-    "put": {"point": (anchor, False), "at": (point, True), "offset": (offset, False), "back": (distance, False),
-            "approach": (direction, False), "ignore": (names, False)},
+    "put": {"point": (anchor, False), "at": (point, True), "offset": (offset, False), "turn": (number, False),
+            "back": (distance, False), "approach": (direction, False), "ignore": (names, False)},
 }
 
 
@@ -258,8 +270,17 @@ def _fields(value: Dict[str, Any], spec: Dict[str, Tuple[Check, bool]], path: st
             continue
         problem = check(value[key])
         if problem:
-            return f"{path}{key}: {problem}"
+            # A nested object's checks name their own field (".at: ..."): join the paths.
+            return f"{path}{key}{problem}" if problem.startswith(".") else f"{path}{key}: {problem}"
     return None
+
+
+def _nested(value: Dict[str, Any], spec: Dict[str, Tuple[Check, bool]]) -> Optional[str]:
+    """`_fields` for an object inside a field: its problem names the inner field (".at: ...")."""
+    problem = _fields(value, spec)
+    if problem is None or problem.startswith("unknown field"):
+        return problem
+    return "." + problem
 
 
 def check_step(raw: Any) -> Optional[str]:
@@ -346,6 +367,6 @@ def run_step(hand: Hand, step: HandCommand) -> None:
         hand.wait(f.get("seconds"))
     elif kind == "put":
         hand.put(f.get("point", "bottom"), hand.place(f["at"]), f.get("offset"), f.get("back", 0.05),
-                 hand.direction(f.get("approach", "down")), f.get("ignore", ()))
+                 hand.direction(f.get("approach", "down")), f.get("ignore", ()), f.get("turn", 0.0))
     else:  # check_step admits only the kinds above
         raise DemoError(f"unknown command {kind!r}")

@@ -174,8 +174,11 @@ class Hand:
         stopped = self.driver.line(direction, limit, steps=steps, stop=stop)
         gone = float(np.linalg.norm(np.asarray(self.world.tcp_pose()[0]) - start))
         if watch is not None and not stopped:
-            verb = "moved" if until_moves else "was touched"
-            raise DemoError(f"'{watch}' never {verb} in {limit:.2f} m")
+            if until_moves:
+                raise DemoError(f"'{watch}' did not move while the gripper went {gone:.2f} m (at most {limit:.2f})")
+            raise DemoError(f"neither the hand nor what it holds touched '{watch}' while the gripper went {gone:.2f} m "
+                            f"(at most {limit:.2f}); to stop when an object pushed along reaches it, use "
+                            f"{{\"moves\": \"{watch}\"}}")
         return gone
 
     def distance_to(self, point: Vector, direction: Vector) -> float:
@@ -221,26 +224,34 @@ class Hand:
             self.driver.settle(int(round(seconds * PHYSICS_HZ)))
 
     def put(self, held_point: str, at: Vector, offset: Offset = None, back: float = 0.05,
-            approach: Vector = (0.0, 0.0, -1.0), ignore: Sequence[str] = ()) -> None:
-        """Carry what the hand holds, as it is turned now, so that its point `held_point`
-        (`bottom`, `-x top`, ...) comes to `at` (a world point), coming in along `approach`
-        for the last `back` metres (from above by default). `offset` moves the target the
-        same way `point`'s does, along the held object's faces."""
+            approach: Vector = (0.0, 0.0, -1.0), ignore: Sequence[str] = (), turn: float = 0.0) -> None:
+        """Carry what the hand holds so that its point `held_point` (`bottom`, `-x top`, ...)
+        comes to `at` (a world point), coming in along `approach` for the last `back` metres
+        (from above by default): turned as it is now, then by `turn` degrees about the
+        vertical. `offset` moves the target along the held object's faces (as they face
+        after the turn), or by a world vector."""
         if self.world.attachment is None:
             raise DemoError("the hand holds nothing to put")
         held = self.world.attachment.name
-        box = self.box(held)
+        tcp, orn = self.world.tcp_pose()
+        spin = p.getQuaternionFromEuler((0.0, 0.0, np.radians(turn)))
+        now = self.box(held)
+        # The held object turned about the vertical through the gripper frame: the grip is kept.
+        turned_orn = p.multiplyTransforms((0, 0, 0), spin, (0, 0, 0), self.world.pose(held)[1])[1]
+        turned_pos = np.asarray(tcp) + np.asarray(p.multiplyTransforms((0, 0, 0), spin,
+                                                                       tuple(now.position - np.asarray(tcp)),
+                                                                       (0, 0, 0, 1))[0])
+        box = object_box((turned_pos, turned_orn), now.lo, now.hi)
         try:
-            local = anchor_local(held_point, box)
+            point_now = box.to_world(anchor_local(held_point, box))
             shift = offset_vector(offset, box)
         except AnchorError as exc:
             raise DemoError(str(exc)) from None
-        now = box.to_world(local)
         target = np.asarray(at, dtype=float) + shift
-        tcp, orn = self.world.tcp_pose()
         approach = np.asarray(approach, dtype=float) / np.linalg.norm(approach)
-        goal = np.asarray(tcp) + (target - now)
-        self.driver.approach_poses([(tuple(goal), tuple(orn))], back=max(back, 0.0), ignore=tuple(ignore),
+        goal = np.asarray(tcp) + (target - point_now)
+        goal_orn = p.multiplyTransforms((0, 0, 0), spin, (0, 0, 0), orn)[1]
+        self.driver.approach_poses([(tuple(goal), tuple(goal_orn))], back=max(back, 0.0), ignore=tuple(ignore),
                                    direction=approach)
 
     @property

@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 from ...operators.execution import fingers_touching, set_fingers_dynamic
 from ...world.collision import CollisionChecker
 from ...world.motion import cartesian_path, path_collision, plan_motion
-from ...world.robot import CLOSED, MAX_OPENING
+from ...world.robot import CLOSED, MAX_OPENING, REACH, SHOULDER
 
 if TYPE_CHECKING:
     from ...world.world import World
@@ -34,6 +34,25 @@ IK_TOLERANCE = dict(pos_tol=1e-3, ang_tol=1e-2)   # tighter than the world's def
 
 class DemoError(RuntimeError):
     """The scripted demonstration cannot go on (no IK, no path, nothing grasped)."""
+
+
+class Failure:
+    """Why no attempt worked: the reason of the attempt that got furthest (a collision says
+    more than an unreachable orientation)."""
+
+    def __init__(self):
+        self.stage, self.reason = -1, "nothing was tried"
+
+    def note(self, stage: int, reason: str) -> None:
+        if stage > self.stage:
+            self.stage, self.reason = stage, reason
+
+    def __str__(self) -> str:
+        return self.reason
+
+
+def _names(bodies) -> str:
+    return ", ".join(f"'{b}'" if not b.startswith("the ") and b != "robot" else b for b in sorted(bodies)) or "itself"
 
 
 def frame_quat(approach: Sequence[float], closing: Sequence[float]) -> tuple:
@@ -102,6 +121,7 @@ class Driver:
         (a pull that a wrist near its joint limit could not make)."""
         world, kin = self.world, self.world.kinematics
         checker = CollisionChecker(world, ignore)
+        why = Failure()
         for index, (target, orn) in enumerate(poses):
             axis = np.array(p.getMatrixFromQuaternion(orn)).reshape(3, 3)[:, 2] if direction is None \
                 else np.asarray(direction, dtype=float) / np.linalg.norm(direction)
@@ -109,23 +129,49 @@ class Driver:
                 seed = world.arm() if attempt == 0 else kin.limits.sample(self.rng)
                 q = kin.ik(target, orn, self.rng, seed=seed, **IK_TOLERANCE)
                 if q is None:
+                    why.note(0, self._unreachable(target))
                     continue
                 q_pre = kin.ik(np.asarray(target) - back * axis, orn, self.rng, seed=q, restarts=1, **IK_TOLERANCE)
                 if q_pre is None:
+                    why.note(1, f"the arm cannot get {back:.2f} m before it to come in straight")
                     continue
                 with world.saved():
-                    blocked = checker.collides(q) or checker.collides(q_pre)
-                if blocked:
+                    hit = checker.colliding_bodies(q) if checker.collides(q) else None
+                    hit_pre = None if hit is not None or not checker.collides(q_pre) else checker.colliding_bodies(q_pre)
+                if hit is not None:
+                    why.note(2, f"there, {self._hitter()} would hit {_names(hit)}")
+                    continue
+                if hit_pre is not None:
+                    why.note(2, f"{back:.2f} m before it, {self._hitter()} would hit {_names(hit_pre)}")
                     continue
                 path = cartesian_path(world, q_pre, axis, back, self.rng)
-                if path is None or path_collision(world, path, ignore) is not None:
+                if path is None:
+                    why.note(3, "no straight approach to it exists (the wrist would flip on the way)")
+                    continue
+                blocked = path_collision(world, path, ignore)
+                if blocked is not None:
+                    why.note(3, f"on the straight approach, {self._hitter()} would hit {blocked}")
                     continue
                 if then is not None and cartesian_path(world, path[-1], then[0], then[1], self.rng) is None:
+                    why.note(4, f"from there the arm cannot go on {then[1]:.2f} m straight along "
+                                f"{np.round(then[0], 2).tolist()}")
                     continue
                 self.move_to_q(q_pre, ignore)
                 self.follow(path, LINE_STEPS)
                 return index
-        raise DemoError(f"no way to approach the gripper pose at {np.round(poses[0][0], 3).tolist()}")
+        raise DemoError(f"no way to approach the gripper pose at {np.round(poses[0][0], 3).tolist()}: {why}")
+
+    def _unreachable(self, target: Sequence[float]) -> str:
+        base = p.getBasePositionAndOrientation(self.world.robot, physicsClientId=self.world.client)[0]
+        shoulder = np.asarray(base) + (0.0, 0.0, SHOULDER)
+        far = float(np.linalg.norm(np.asarray(target) - shoulder))
+        if far > REACH:
+            return f"it is {far:.2f} m from the robot's shoulder, beyond its reach ({REACH:.2f} m)"
+        return "no arm configuration puts the gripper there turned that way"
+
+    def _hitter(self) -> str:
+        held = self.world.attachment.name if self.world.attachment else None
+        return f"the arm or the held '{held}'" if held else "the arm"
 
     def place_held(self, poses: Sequence, back: float = 0.08, ignore: Sequence[str] = (),
                    then: Optional[Tuple[Sequence[float], float]] = None) -> int:
@@ -164,7 +210,10 @@ class Driver:
                 self._planned_line(direction, remaining)
                 return False
             if path is None:
-                raise DemoError(f"no straight motion of {distance:.3f} m along {np.round(direction, 2).tolist()}")
+                end = np.asarray(self.world.tcp_pose()[0]) + np.asarray(direction) / np.linalg.norm(direction) * remaining
+                raise DemoError(f"no straight motion of {distance:.3f} m along {np.round(direction, 2).tolist()}: "
+                                f"{self._unreachable(end)} (keeping the gripper turned as it is, "
+                                f"{remaining:.3f} m from its end)")
             if self.follow(path, steps, stop):
                 return True
             remaining -= piece

@@ -1,0 +1,153 @@
+"""Task distributions as data files (docs/distributions.md): derived from a problem file's
+scene, every built-in task expressible in the same form with byte-identical instances,
+located errors, and the commands that take a distribution file."""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from dataclasses import replace
+
+import pytest
+
+from pdsketch_mech.commands import envs as envs_cli
+from pdsketch_mech.commands import learn as learn_cli
+from pdsketch_mech.envs.generate import sample
+from pdsketch_mech.envs.task_file import (
+    TaskFileError, dump_document, load_task_file, resolve_task, task_document, task_from_document,
+)
+from pdsketch_mech.envs.tasks import TASKS
+
+from conftest import ROOT
+
+EXAMPLES = os.path.join(ROOT, "docs", "examples")
+EXAMPLE = os.path.join(EXAMPLES, "push-to-edge.dist.json")
+
+
+@pytest.mark.parametrize("name", list(TASKS))
+def test_every_built_in_task_is_a_distribution_file_with_the_same_instances(name, tmp_path):
+    path = tmp_path / f"{name}.dist.json"
+    path.write_text(dump_document(task_document(TASKS[name])))
+    loaded = load_task_file(str(path))
+    assert replace(loaded, source="") == TASKS[name]
+    for split in ("train", "dev", "test"):
+        for seed in (0, 7):
+            assert sample(replace(loaded, source=""), split, seed).problem_text() == \
+                sample(TASKS[name], split, seed).problem_text()
+
+
+def test_a_distribution_derives_its_objects_from_the_problem_scene():
+    task = load_task_file(EXAMPLE)
+    table, flat = task.objects
+    assert (table.fixed, table.noise_xy, table.noise_yaw) == (True, (0.0, 0.0), 0.0)
+    assert flat.xy == (0.48, 0.22) and flat.yaw == pytest.approx(90.0) and flat.on == "table"
+    assert flat.assets.test == ("calculator/2", "document/2") and flat.noise_xy == (0.04, 0.04)
+    assert task.goal == "(holding flat)" and task.name == "push-to-edge"
+    canonical = sample(task).problem_text()
+    assert '(flat :asset "calculator/0" :position (0.48 0.22 ' in canonical
+    assert "python -m pdsketch_mech.envs " + EXAMPLE in canonical      # says how to regenerate it
+
+
+def test_an_object_on_a_movable_support_moves_with_it(tmp_path):
+    (tmp_path / "tray.pddl").write_text("""(define (problem tray) (:domain mech-basis)
+      (:objects table tray cup - item)
+      (:init (handempty) (fixed table) (support tray table) (support cup tray))
+      (:goal (holding cup))
+      (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+              (tray :asset "plate/0" :position (0.5 0.1) :on table)
+              (cup :asset "small-block/0" :position (0.52 0.1) :on tray)))""")
+    (tmp_path / "tray.dist.json").write_text(json.dumps({"format": 1, "problem": "tray.pddl",
+                                                         "objects": {"cup": {"shift": [0, 0], "turn": 0}}}))
+    task = load_task_file(str(tmp_path / "tray.dist.json"))
+    cup = task.object("cup")
+    assert cup.frame == "tray" and cup.xy == pytest.approx((0.02, 0.0))
+    for seed in range(5):
+        instance = sample(task, "train", seed)
+        tray, placed = instance.object("tray"), instance.object("cup")
+        assert placed.position[0] - tray.position[0] == pytest.approx(0.02 * _cos(tray.yaw), abs=1e-3)
+
+
+def _cos(degrees: float) -> float:
+    import math
+    return math.cos(math.radians(degrees))
+
+
+@pytest.mark.parametrize("document, expected", [
+    ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flta": {}}},
+     "objects: 'flta' is not an object of the problem's scene (did you mean 'flat'?)"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"shfit": [0, 0]}}},
+     "objects: flat: unknown field 'shfit' (did you mean 'shift'?)"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"assets": ["calculater/0"]}}},
+     "objects: flat: assets: train: unknown asset 'calculater/0'"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"turn": "a lot"}}},
+     "objects: flat: turn: expected a number, got \"a lot\""),
+    ({"format": 1, "problem": "nowhere.pddl"}, "problem: "),
+    ({"format": 2, "problem": "push-to-edge.pddl"}, "format: expected \"format\": 1"),
+    ({"format": 1, "problme": "push-to-edge.pddl"}, "unknown field 'problme' (did you mean 'problem'?)"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "distractors": {"pool": ["apple/0"], "count": [2, 1],
+                                                                    "region": [[0.3, 0.5], [0, 0.2]]}},
+     "distractors: count: expected [MIN, MAX]"),
+])
+def test_a_bad_distribution_is_one_located_line(tmp_path, document, expected):
+    shutil.copy(os.path.join(EXAMPLES, "push-to-edge.pddl"), tmp_path / "push-to-edge.pddl")
+    path = tmp_path / "bad.dist.json"
+    path.write_text(json.dumps(document, indent=1))
+    with pytest.raises(TaskFileError) as caught:
+        load_task_file(str(path))
+    message = str(caught.value)
+    assert message.startswith(str(path)) and ": error: " in message and expected in message, message
+    assert "\n" not in message
+
+
+def test_the_error_points_at_the_offending_key(tmp_path):
+    shutil.copy(os.path.join(EXAMPLES, "push-to-edge.pddl"), tmp_path / "push-to-edge.pddl")
+    path = tmp_path / "bad.dist.json"
+    path.write_text('{"format": 1, "problem": "push-to-edge.pddl",\n "objects": {\n  "flta": {}}}\n')
+    with pytest.raises(TaskFileError, match=r"bad\.dist\.json:3:3: error"):
+        load_task_file(str(path))
+
+
+def test_resolve_task_names_the_choices():
+    assert resolve_task("hook") is TASKS["hook"]
+    with pytest.raises(KeyError, match="did you mean 'hook'"):
+        resolve_task("hok")
+
+
+def test_envs_writes_instances_of_a_distribution_file_and_exports_built_ins(tmp_path, capsys):
+    assert envs_cli.main([EXAMPLE, "--seed", "2", "--split", "dev"]) == 0
+    assert "(define (problem push-to-edge-dev-2)" in capsys.readouterr().out
+    out = tmp_path / "lever.dist.json"
+    assert envs_cli.main(["lever", "--export", "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert envs_cli.main([str(out), "--seed", "3", "--split", "test"]) == 0
+    from_file = capsys.readouterr().out
+    assert envs_cli.main(["lever", "--seed", "3", "--split", "test"]) == 0
+    # The same scene; only the header's regeneration command names the file.
+    assert from_file.split("\n", 2)[2] == capsys.readouterr().out.split("\n", 2)[2]
+
+
+def test_learn_refuses_a_bad_distribution_file_before_playing(tmp_path, capsys):
+    fragment = os.path.join(ROOT, "domains", "mechanisms", "edge.pddl")
+    bad = tmp_path / "bad.dist.json"
+    bad.write_text('{"format": 1, "problem": "nowhere.pddl"}')
+    status = learn_cli.main(["selfplay", "edge", "--fragment", fragment, "--task", str(bad), "--episodes", "1",
+                             "--out", str(tmp_path / "data")])
+    assert status == 2 and "problem: " in capsys.readouterr().err
+    assert not os.listdir(tmp_path / "data") if os.path.exists(tmp_path / "data") else True
+
+
+@pytest.mark.slow
+def test_selfplay_plays_a_distribution_file(tmp_path, capsys):
+    folder = tmp_path / "ex"
+    shutil.copytree(EXAMPLES, folder)
+    from pdsketch_mech.commands import demo as demo_cli
+    assert demo_cli.main(["record", str(folder / "push-to-edge.demo.json")]) == 0
+    fragment = str(folder / "push-to-edge.mech.pddl")
+    assert learn_cli.main(["extract", str(folder / "push-to-edge"), "--out", fragment]) == 0
+    status = learn_cli.main(["selfplay", "push-to-edge", "--fragment", fragment, "--task",
+                             str(folder / "push-to-edge.dist.json"), "--episodes", "1", "--seed", "1",
+                             "--out", str(tmp_path / "data")])
+    err = capsys.readouterr().err
+    assert "1 episodes in" in err and status in (0, 1)
+    manifest = json.load(open(tmp_path / "data" / "manifest.json"))
+    assert manifest["config"]["task"] == str(folder / "push-to-edge.dist.json")
