@@ -32,3 +32,7 @@ def learn() -> NoReturn:
 
 def demo() -> NoReturn:
     _run("demo")
+
+
+def envs() -> NoReturn:
+    _run("envs")

@@ -1,7 +1,5 @@
 """`python -m pdsketch_mech.envs`: the entry point of `commands/envs.py`."""
-import sys
-
-from ..commands.common import run
+from ..commands.common import run_and_exit
 from ..commands.envs import main
 
-sys.exit(run(main))
+run_and_exit(main)

@@ -20,8 +20,6 @@ import os
 import re
 from typing import Any, Dict, List, Optional, Tuple
 
-import pybullet as p
-
 from ..lang.errors import PddlError, did_you_mean
 from ..lang.nodes import Problem
 from ..lang.parser import parse_file
@@ -136,7 +134,7 @@ def _from_problem(path: str, error) -> Tuple[Dict[str, ObjectSpec], str]:
                 if atom.predicate == "support" and len(atom.args) == 2}
     specs: Dict[str, ObjectSpec] = {}
     for obj in scene:
-        roll, pitch, yaw = p.getEulerFromQuaternion(obj.orientation)
+        roll, pitch, yaw = _euler(obj.orientation)
         if abs(roll) > 1e-3 or abs(pitch) > 1e-3:
             raise error(f"problem: scene object '{obj.name}' is tilted; a distribution turns objects about z only",
                         "problem")
@@ -156,6 +154,15 @@ def _from_problem(path: str, error) -> Tuple[Dict[str, ObjectSpec], str]:
             specs[name] = _replace(spec, xy=(c * dx + s * dy, -s * dx + c * dy), yaw=spec.yaw - support.yaw,
                                    frame=spec.on)
     return specs, formula(problem.goal)
+
+
+def _euler(q: Tuple[float, float, float, float]) -> Tuple[float, float, float]:
+    """Roll, pitch, yaw (radians) of a quaternion (x, y, z, w); no simulator imported for it."""
+    x, y, z, w = q
+    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
+    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return roll, pitch, yaw
 
 
 def _replace(spec: ObjectSpec, **changes) -> ObjectSpec:
