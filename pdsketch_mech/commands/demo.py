@@ -34,13 +34,23 @@ import time
 from typing import Optional, Sequence
 
 from ..util.data import data_path
-from .common import ArgumentParser, EXIT_OK, EXIT_UNSOLVED, fail, output_folder, whole
+from .common import ArgumentParser, EXIT_OK, EXIT_UNSOLVED, fail, output_folder, shown_path, whole
 
 DEMOS_DIR = data_path("domains", "mechanisms", "demos")
 
 
 def _folder_ok(path: Optional[str]) -> bool:
     return path is None or os.path.isdir(os.path.dirname(os.path.abspath(path)))
+
+
+def existing_recording(base: str) -> Optional[str]:
+    """Why recording to `base` would replace a recording (without --force), or None."""
+    from ..world.recording import recording_paths
+
+    for path in recording_paths(base):
+        if os.path.exists(path):
+            return f"{shown_path(path)} exists (use --force to replace it)"
+    return None
 
 
 def is_user_demo(name: str) -> bool:
@@ -51,7 +61,7 @@ def is_user_demo(name: str) -> bool:
 def record(args) -> int:
     from ..envs.demos.run import DEMOS
     from ..envs.tasks import TASKS
-    from ..world.recording import RecordingExists, recording_paths, save_recording
+    from ..world.recording import RecordingExists, save_recording
 
     if is_user_demo(args.name):
         from .demo_user import record_user
@@ -72,10 +82,9 @@ def record(args) -> int:
     stem = args.name + (f"-{args.variant}" if args.variant else "")
     stem += "" if args.seed is None else f"-{args.split}-{args.seed}"
     base = os.path.join(out, stem)
-    if not args.force:
-        for path in recording_paths(base):
-            if os.path.exists(path):
-                return fail(f"{os.path.relpath(path)} exists (use --force to replace it)")
+    taken = None if args.force else existing_recording(base)
+    if taken:
+        return fail(taken)
 
     from ..envs.demos.run import demo_instance, run_demo
     from ..envs.demos.variants import VARIANTS

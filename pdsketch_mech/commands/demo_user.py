@@ -15,8 +15,8 @@ def record_user(args) -> int:
     from ..envs.demos.user import load_problem, load_user_demo, perform_user_demo
     from ..lang.writer import formula, write_problem
     from ..util.progress import progress_bar
-    from ..world.recording import Recording, RecordingExists, load_recording, recording_paths, save_recording
-    from .demo import _folder_ok
+    from ..world.recording import Recording, RecordingExists, load_recording, save_recording
+    from .demo import _folder_ok, existing_recording
 
     if args.variant:
         return fail("--variant is for the built-in demonstrations")
@@ -47,10 +47,9 @@ def record_user(args) -> int:
         return fail(problem_folder)
     stem = default_stem(args.name) + ("" if args.seed is None else f"-seed-{args.seed}")
     base = os.path.join(out, stem)
-    if not args.force:
-        for path in recording_paths(base):
-            if os.path.exists(path):
-                return fail(f"{shown_path(path)} exists (use --force to replace it)")
+    taken = None if args.force else existing_recording(base)
+    if taken:
+        return fail(taken)
 
     start = time.perf_counter()
     steps = demo.text.count('"do"') if demo.path.endswith(".json") else None
