@@ -18,10 +18,10 @@ from .common import ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, output_error, whole
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     from ..envs.spec import SPLITS
-    from ..envs.tasks import TASKS
+    from ..envs.task_file import task_names
 
     parser = ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
-    parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(TASKS)}; or a distribution "
+    parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(task_names())}; or a distribution "
                                                                 "file (NAME.dist.json, docs/distributions.md)")
     parser.add_argument("--seed", type=whole, help="which instance (a whole number >= 0)")
     parser.add_argument("--split", default="train", choices=SPLITS,
@@ -38,7 +38,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(argv)
 
     if args.list:
-        for task in TASKS.values():
+        from ..envs.task_file import resolve_task
+        for name in task_names():
+            task = resolve_task(name)
             print(f"{task.name:14s} {task.title}: {task.description}")
         return EXIT_OK
     from ..envs.task_file import TaskFileError, dump_document, resolve_task, task_document

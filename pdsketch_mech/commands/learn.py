@@ -234,12 +234,11 @@ def _prepare_selfplay(args):
     if isinstance(found, int):
         return found
     fragment, mechanism = found
-    from ..envs.task_file import TaskFileError, is_task_file, resolve_task
-    from ..envs.tasks import TASKS
+    from ..envs.task_file import TaskFileError, is_task_file, resolve_task, task_names
     task = args.task or task_of(fragment, args.name)
     if task is None:
         return fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "
-                    f"({', '.join(TASKS)}, or a distribution file NAME.dist.json)")
+                    f"({', '.join(task_names())}, or a distribution file NAME.dist.json)")
     try:
         resolve_task(task)
     except KeyError as exc:
@@ -247,7 +246,7 @@ def _prepare_selfplay(args):
     except TaskFileError as exc:
         print(exc, file=sys.stderr)
         return 2
-    if task not in TASKS and is_task_file(task):
+    if task not in task_names() and is_task_file(task):
         task = os.path.abspath(task)   # episodes resolve it in their own processes, wherever they run
     split = getattr(args, "split", "train")  # `train` always plays the train split
     out = args.out or os.path.join("out", "selfplay" if split == "train" else f"selfplay-{split}", args.name)

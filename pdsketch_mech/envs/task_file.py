@@ -25,6 +25,7 @@ from ..lang.nodes import Problem
 from ..lang.parser import parse_file
 from ..lang.scene import build_scene
 from ..lang.writer import formula
+from ..util.data import data_path
 from ..world.asset_index import asset_info
 from .spec import Align, Assets, Distractors, ObjectSpec, TaskSpec
 
@@ -321,8 +322,26 @@ def resolve_task(name: str) -> TaskSpec:
         return TASKS[name]
     if is_task_file(name) or os.path.exists(name):
         return load_task_file(name)
-    raise KeyError(f"unknown task '{name}'{did_you_mean(name, TASKS)}; tasks: {', '.join(TASKS)}, "
+    shipped = shipped_task_files()
+    if name in shipped:
+        return load_task_file(shipped[name])
+    known = list(TASKS) + list(shipped)
+    raise KeyError(f"unknown task '{name}'{did_you_mean(name, known)}; tasks: {', '.join(known)}, "
                    f"or a distribution file (NAME{SUFFIX})")
+
+
+def shipped_task_files() -> Dict[str, str]:
+    """Name -> path of the distribution files shipped beside the mechanisms' demonstrations
+    (the mechanisms beyond the paper's, demonstrated as files)."""
+    folder = data_path("domains", "mechanisms", "demos")
+    names = sorted(f for f in os.listdir(folder) if f.endswith(SUFFIX)) if os.path.isdir(folder) else []
+    return {f[:-len(SUFFIX)]: os.path.join(folder, f) for f in names}
+
+
+def task_names() -> List[str]:
+    """Every task a name resolves to: the paper's, then the shipped distribution files."""
+    from .tasks import TASKS
+    return list(TASKS) + [n for n in shipped_task_files() if n not in TASKS]
 
 
 # ---------------------------------------------------------------------- writing

@@ -78,7 +78,7 @@ def extract(recording: Recording, name: str, source: str = "", basis: Optional[D
     ex = explain(seg, basis)
     static = {("fixed", seg.bodies.names[o]) for o in seg.bodies.fixed}
     check_complete(recording, problem.goal, ex, static)
-    lifted = lift(ex, seg.bodies.names, problem.goal, basis, name)
+    lifted = lift(ex, seg.bodies.names, problem.goal, basis, name, seg.bodies.fixed)
     return Extraction(name, source, problem, seg, ex, lifted)
 
 

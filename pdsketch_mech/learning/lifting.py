@@ -23,12 +23,15 @@ The precondition is the initial contact-mode graph restricted to the involved bo
 hand (`handempty` / `holding`) and every `support` — plus `(not (= ?a ?b))` for each pair of
 moved bodies (two of them may otherwise be grounded on one object). `touching` facts are
 left out: no basis operator maintains them, so requiring one would only stop the mechanism
-from applying. The certified effect is the demonstration's goal, lifted the same way.
+from applying. A body neither that graph nor the goal mentions (a ramp something is put on to
+slide off) is pinned by what the demonstration shows of it: `(fixed ?x)` if it never moves,
+and `(not (= ?x ?y))` for every other parameter. The certified effect is the demonstration's
+goal, lifted the same way.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, Hashable, List, Sequence, Set, Tuple
+from typing import Collection, Dict, Hashable, List, Sequence, Set, Tuple
 
 from ..lang.nodes import (ActionCall, And, Atom, Const, Domain, Equals, Formula, Mechanism, Not, Term,
                           TypedName, Var)
@@ -142,8 +145,10 @@ def rename_terms(f: Formula, names: Dict[str, str], strict: bool = False) -> For
     return f
 
 
-def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, name: str) -> Lifted:
-    """The mechanism `name` that the explanation `ex` of a demonstration with goal `goal` lifts to."""
+def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, name: str,
+         fixed: Collection[int] = ()) -> Lifted:
+    """The mechanism `name` that the explanation `ex` of a demonstration with goal `goal` lifts
+    to (`fixed`: the bodies that never move)."""
     role, why = assign_roles(ex, names, goal)
     # Bodies only the goal names (not involved in any step) become parameters too.
     for o, n in enumerate(names):
@@ -190,9 +195,36 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
         for b in moved[i + 1:]:
             pre.append(Not(Equals(Var(variables[a]), Var(variables[b]))))
     certified = rename_terms(goal, by_name, strict=True)
+    pre += _pinned([o for o in order if variables[o] not in _variables(And(tuple(pre + [certified])))],
+                   order, variables, fixed)
     parameters = tuple(TypedName(variables[o], OBJECT_TYPE) for o in order) + tuple(value_params)
     mechanism = Mechanism(name, parameters, And(tuple(pre)) if len(pre) != 1 else pre[0], certified, tuple(calls))
     return Lifted(mechanism, {o: variables[o] for o in order}, why)
+
+
+def _pinned(free: Sequence[int], order: Sequence[int], variables: Dict[int, str],
+            fixed: Collection[int]) -> List[Formula]:
+    """For a body neither the precondition nor the goal mentions (the ramp something is put
+    on to slide off), what the demonstration shows of it: fixed or not, and another body than
+    the others; otherwise the mechanism would apply with any object in its place."""
+    out: List[Formula] = []
+    for o in free:
+        if o in fixed:
+            out.append(Atom("fixed", (Var(variables[o]),)))
+        out += [Not(Equals(Var(variables[o]), Var(variables[other]))) for other in order if other != o]
+    return out
+
+
+def _variables(f: Formula) -> Set[str]:
+    """The variable names a formula mentions."""
+    if isinstance(f, Atom):
+        return {t.name for t in f.args if isinstance(t, Var)}
+    if isinstance(f, Equals):
+        return {t.name for t in (f.left, f.right) if isinstance(t, Var)}
+    found: Set[str] = set()
+    for child in getattr(f, "parts", ()) or ((f.body,) if hasattr(f, "body") else ()):
+        found |= _variables(child)
+    return found
 
 
 def _index(name: str, names: Sequence[str]) -> int:

@@ -35,7 +35,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..envs.generate import sample as sample_instance
-from ..envs.task_file import resolve_task
+from ..envs.task_file import resolve_task, task_names
 from ..envs.tasks import TASKS
 from ..lang.loader import LoadedDomain, load_domain
 from ..lang.nodes import Mechanism, Problem
@@ -106,13 +106,14 @@ def task_of(fragment: str, name: str) -> Optional[str]:
     """The task a mechanism's instances come from: the task of its name, else the task of
     the demonstration recording its fragment says it was extracted from (by the recording's
     name, or by the task's title the header gives beside it)."""
-    if name in TASKS:
+    known = task_names()
+    if name in known:
         return name
     with open(fragment, encoding="utf-8") as handle:
         found = DEMO_LINE.search(handle.read())
     if found is None:
         return None
-    if found.group(1) in TASKS:
+    if found.group(1) in known:
         return found.group(1)
     # A recording of a perturbed instance is named after it (com-train-5); the header names
     # its task by title too.

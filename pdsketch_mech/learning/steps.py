@@ -9,7 +9,7 @@ lift after the last grasp) changes nothing either and is dropped. The mapping, b
 changes between two segments:
 
     hand empty -> holds x            grasp x s        s: x's support just before
-    holds x -> hand empty            place x s        s: what x rests on once settled
+    holds x -> hand empty            place x s        s: what x rests on when let go
     holds x, x starts pushing y      move-cont x y s  s: y's support when the push starts
     hand empty, hand starts pushing  transit-cont y s s: y's support when the push starts
 
@@ -182,8 +182,9 @@ def explain(seg: Segmentation, basis: Domain) -> Explanation:
         mode = s.mode
         if prev is not None and prev.held is not None and prev.held != mode.held:
             x = prev.held
-            # What x rests on once it has settled: the end of the segment after the release.
-            add("place", (x, support(x, s.end, (s.start, s.end))), i, s.start)
+            # What x rests on when let go (or first lands on): where the robot put it. What it
+            # slides or tips onto afterwards is physics, and the demonstration's goal says it.
+            add("place", (x, support(x, s.start, (s.start, s.end))), i, s.start)
         if prev is not None and mode.held is not None and prev.held != mode.held:
             x = mode.held
             before = max(0, s.start - 1)

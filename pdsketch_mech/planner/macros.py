@@ -3,7 +3,8 @@
 A mechanism grounded on objects binds each of its steps to a ground basis operator (its
 continuous variables to the placeholders those operators use, consistently across steps);
 the macro's precondition is the mechanism's precondition plus what the steps need that
-earlier steps do not provide, and its effect is the steps' composed effect. The symbolic
+earlier steps do not provide, and its effect is the steps' composed effect plus the facts it
+certifies (which refinement checks in simulation). The symbolic
 search can then use a whole mechanism as one action; refinement expands it again.
 """
 from __future__ import annotations
@@ -26,18 +27,29 @@ def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, pro
     by_signature: Dict[Tuple[str, Tuple[str, ...]], List[int]] = defaultdict(list)
     for op_id, op in enumerate(task.operators):
         by_signature[(op.name, tuple(a for a in op.args if not is_placeholder(a)))].append(op_id)
+    supports = other_supports(task)
     added = 0
     for mechanism in domain.mechanisms:
         object_params = [q for q in mechanism.parameters if not types.is_value(q.type)]
         for values in product(*(objects.get(q.type, ()) for q in object_params)):
             binding = {q.name: v for q, v in zip(object_params, values)}
             for step_ids, env in _bind_steps(mechanism, binding, task, by_signature):
-                macro = _compose(mechanism, binding, values, step_ids, task, objects, env)
+                macro = _compose(mechanism, binding, values, step_ids, task, objects, env, supports)
                 if macro is not None:
                     task.operators.append(macro)
                     added += 1
                     break  # one binding of the continuous variables is enough symbolically
     return added
+
+
+def other_supports(task: StripsTask) -> Dict[int, int]:
+    """For each `(support x y)` fact id, the mask of x's other support facts."""
+    by_object: Dict[str, int] = defaultdict(int)
+    for fact, i in task.fact_ids.items():
+        if fact[0] == "support" and len(fact) == 3:
+            by_object[fact[1]] |= 1 << i
+    return {i: by_object[fact[1]] & ~(1 << i) for fact, i in task.fact_ids.items()
+            if fact[0] == "support" and len(fact) == 3}
 
 
 def _bind_steps(mechanism: Mechanism, binding: Dict[str, str], task: StripsTask,
@@ -72,7 +84,7 @@ def _unify(term: str, value: str, env: Dict[str, str]) -> bool:
 
 
 def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], task: StripsTask,
-             objects, env: Dict[str, str]) -> Optional[Operator]:
+             objects, env: Dict[str, str], supports: Dict[int, int]) -> Optional[Operator]:
     alternatives = formula_masks(mechanism.precondition, binding, task, objects)
     if not alternatives:
         return None
@@ -91,11 +103,30 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
     certified = tuple(formula_masks(mechanism.certified, binding, task, objects))
     if not certified:
         return None  # it promises what can never hold here
+    settles = certified_effect(certified[0], added, supports)
+    added, deleted = (added & ~settles[1]) | settles[0], (deleted & ~settles[0]) | settles[1]
     # Which of the mechanism's variables each placeholder stands for: learned samplers are
     # trained per variable, and self-play labels its data by them.
     roles = tuple(sorted((value, var) for var, value in env.items() if is_placeholder(value)))
     return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids),
-                    certified=certified, roles=roles)
+                    certified=certified, roles=roles, settles=settles)
+
+
+def certified_effect(promise: Tuple[int, int], added: int, supports: Dict[int, int]) -> Tuple[int, int]:
+    """(add, delete) a mechanism's certified facts impose after its steps. What it certifies
+    is its effect too (the paper: the demonstration's goal becomes the mechanism's certified
+    effect): a push or a release whose outcome physics decides (a box pushed across a gap, a
+    block let go on a ramp it slides off) has no basis effect, yet refinement checks that the
+    certified facts hold. An object certified to rest on something rests on nothing else the
+    steps put it on. A self-contradicting promise is left to refinement to refute."""
+    promised, refused = promise
+    if promised & refused:
+        return 0, 0
+    superseded = 0
+    for fact_id, others in supports.items():
+        if promised >> fact_id & 1:
+            superseded |= added & others & ~promised
+    return promised, refused | superseded
 
 
 def formula_masks(formula: Formula, binding, task: StripsTask, objects) -> List[Tuple[int, int]]:

@@ -194,6 +194,8 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
             state = task.successor(state, basis)
             last = k == len(expansion) - 1
             macro = basis_id != op_id
+            if last and macro:   # where its certified facts say the mechanism leaves things
+                state = (state & ~op.settles[1]) | op.settles[0]
             steps.append(Step(basis.name, basis.args, state, op.name if macro else None,
                               op.certified if last and op.steps else (), k if macro else 0,
                               tuple(a for a in op.args if not is_placeholder(a)) if macro else (),

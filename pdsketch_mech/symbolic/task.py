@@ -39,6 +39,7 @@ class Operator:
     steps: Tuple[int, ...] = ()  # a mechanism (macro): the ids of its basis operators, in order
     certified: Tuple[Tuple[int, int], ...] = ()  # a mechanism's promise: alternatives of (true, false) masks
     roles: Tuple[Tuple[str, str], ...] = ()  # a mechanism: (placeholder, the variable it stands for)
+    settles: Tuple[int, int] = (0, 0)  # a mechanism: (add, delete) its certified facts impose after its steps
 
     @property
     def label(self) -> str:
