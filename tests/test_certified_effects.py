@@ -70,7 +70,7 @@ def test_gap_push_plans_and_replays(tmp_path):
 
     out = tmp_path / "plan.json"
     status = plan_cli.main([os.path.join(MECHANISMS, "gap-push.pddl"),
-                            os.path.join(MECHANISMS, "demos", "gap-push.pddl"), "--seed", "0", "--timeout", "120",
+                            os.path.join(ROOT, "domains", "tasks", "gap-push.pddl"), "--seed", "0", "--timeout", "120",
                             "--json", str(out), "--validate"])
     assert status == 0
     assert {s["mechanism"] for s in json.load(open(out))["plan"]} == {"gap-push"}
