@@ -24,6 +24,15 @@ TABLE2: Tuple[PaperComposition, ...] = (
 BY_TASK = {t.task: t for t in TABLE2}
 
 
+def column_of(task: str) -> PaperComposition:
+    """The paper's column of `task`, or one without the paper's figures for a composition
+    beyond the paper."""
+    if task in BY_TASK:
+        return BY_TASK[task]
+    from ..envs.task_file import resolve_task
+    return PaperComposition(task, resolve_task(task).title, {})
+
+
 def table(trials: Sequence[Trial], columns: Sequence[PaperComposition],
           methods: Sequence[str]) -> Tuple[List[str], List[List[str]], List[str]]:
     """A row per method, a column per task: "n/N (xx %), median T s" for ours, the paper's rate beside."""
@@ -37,8 +46,8 @@ def table(trials: Sequence[Trial], columns: Sequence[PaperComposition],
             median = f", median {statistics.median(solved):.1f} s" if solved else ""
             row.append(f"{len(solved)}/{len(mine)} ({100 * len(solved) / max(1, len(mine)):.0f} %){median}"
                        if mine else "-")
-            paper.append(f"{100 * c.paper[m]:.0f} %")
-        rows += [row, paper]
+            paper.append(f"{100 * c.paper[m]:.0f} %" if m in c.paper else "-")
+        rows += [row, paper] if any(m in c.paper for c in columns) else [row]
     invalid = [t for t in trials if t.status == "invalid"]
     lines = ["n/N: plans found within the limit that replay in a fresh world; median over those"]
     lines += [f"{t.instance} {t.method}: {t.reason}" for t in invalid]
@@ -69,7 +78,7 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperComposition], methods: 
             if r:
                 rates.annotate(f"{s}/{len(r)}", (bar.get_x() + width / 2, bar.get_height()), ha="center",
                                va="bottom", fontsize=7)
-        rates.bar(x + offset + width, [c.paper[m] for c in columns], width, color="white",
+        rates.bar(x + offset + width, [c.paper.get(m, 0.0) for c in columns], width, color="white",
                   edgecolor=METHOD_COLOURS.get(m), hatch="///", label=f"{METHOD_TITLES[m]} (paper)")
         for i, r in enumerate(runs):
             jitter = np.linspace(-0.08, 0.08, max(1, len(r)))   # runs side by side, not on one another

@@ -43,6 +43,21 @@ PAPER_LIMIT = 600.0
 BY_TASK = {t.task: t for t in TABLE1}
 
 
+def column_of(task: str) -> PaperTask:
+    """The paper's column of `task`, or a column without the paper's figures for a task beyond
+    the paper (its mechanism has the task's name)."""
+    if task in BY_TASK:
+        return BY_TASK[task]
+    from ..envs.task_file import resolve_task
+    spec = resolve_task(task)
+    return PaperTask(task, spec.title, spec.name, {})
+
+
+def with_paper(columns: Sequence[PaperTask], method: str) -> bool:
+    """Whether the paper has a figure of `method` for every column."""
+    return all(method in c.paper for c in columns)
+
+
 def fragment_of(column: PaperTask, folder: str) -> str:
     return os.path.join(folder, f"{column.mechanism}.pddl")
 
@@ -130,7 +145,7 @@ def table(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequen
         if any(getattr(figures[c.task, m], "planning", None) is not None for c in columns):
             rows.append([f"{METHOD_TITLES[m]} (ours, planner alone)"] + [format_planning(figures[c.task, m])
                                                                         for c in columns])
-        if m in columns[0].paper:
+        if with_paper(columns, m):
             rows.append([f"{METHOD_TITLES[m]} (paper)"] + [paper_cell(c.paper[m]) for c in columns])
     return header, rows, summary_lines(figures, columns, methods, timeout)
 
@@ -146,11 +161,14 @@ def summary_lines(figures: Dict[Tuple[str, str], Optional[Cell]], columns: Seque
         if all(x is not None for x in ours):
             # The all-mechanisms row is compared with the paper's Macro+Sampler row.
             row = "macro+sampler" if m == ALL_MECHANISMS else m
-            paper = _geomean([c.paper[row] if c.paper[row] is not None else PAPER_LIMIT for c in columns])
             mean = _geomean([x.mean_s for x in ours])
+            solved = f"{sum(x.solved for x in ours)}/{sum(x.trials for x in ours)} solved"
+            if not with_paper(columns, row):
+                lines.append(f"{METHOD_TITLES[m]}: geometric mean {mean:.2f} s over {len(columns)} tasks; {solved}")
+                continue
+            paper = _geomean([c.paper[row] if c.paper[row] is not None else PAPER_LIMIT for c in columns])
             lines.append(f"{METHOD_TITLES[m]}: geometric mean {mean:.2f} s over {len(columns)} tasks against the "
-                         f"paper's {paper:.2f} s ({paper / mean:.1f}x); "
-                         f"{sum(x.solved for x in ours)}/{sum(x.trials for x in ours)} solved")
+                         f"paper's {paper:.2f} s ({paper / mean:.1f}x); {solved}")
             if all(x.planning is not None for x in ours):
                 alone = _geomean([x.planning[0] for x in ours])
                 lines.append(f"{METHOD_TITLES[m]}, planner alone: geometric mean {alone:.2f} s against the paper's "
@@ -202,7 +220,7 @@ def plot(trials: Sequence[Trial], columns: Sequence[PaperTask], methods: Sequenc
             if c is not None:  # above the error bar
                 ax.annotate(f"{c.solved}/{c.trials}", (bar.get_x() + width / 2, c.mean_s + c.stderr_s), ha="center",
                             va="bottom", fontsize=7)
-        if m not in columns[0].paper:
+        if not with_paper(columns, m):
             continue
         paper = [c.paper[m] if c.paper[m] is not None else PAPER_LIMIT for c in columns]
         ax.bar(x + offset + width, paper, width, color="white", edgecolor=METHOD_COLOURS.get(m), hatch="///",

@@ -17,6 +17,7 @@ from typing import List, Sequence
 
 from ..commands.common import EXIT_OK, EXIT_UNSOLVED, count, seconds, seed
 from ..envs.spec import SPLITS
+from ..envs.task_file import task_names
 from ..util.files import write_json, write_text
 from ..util.progress import progress_bar
 from . import compose, mechanisms
@@ -132,9 +133,9 @@ def commits_line(trials: Sequence[Trial]) -> str:
 
 def run_mechanisms_command(args: argparse.Namespace) -> int:
     warn_if_test(args.split)
-    tasks = _names(args.tasks, list(mechanisms.BY_TASK), "tasks")
+    tasks = _names(args.tasks, task_names(), "tasks")
     methods = _names(args.methods, METHODS, "methods")
-    columns = [mechanisms.BY_TASK[t] for t in tasks]
+    columns = [mechanisms.column_of(t) for t in tasks]
     fragments = {c.task: mechanisms.fragment_of(c, args.mechanisms_dir) for c in columns}
     _check(args, list(fragments.values()))
     own = [m for m in methods if m != ALL_MECHANISMS]
@@ -163,7 +164,7 @@ def run_mechanisms_command(args: argparse.Namespace) -> int:
 
 def run_compose_command(args: argparse.Namespace) -> int:
     warn_if_test(args.split)
-    tasks = _names(args.tasks, list(compose.BY_TASK), "tasks")
+    tasks = _names(args.tasks, task_names(), "tasks")
     methods = _names(args.methods, PAPER_METHODS, "methods")
     fragments = tuple(sorted(glob.glob(os.path.join(args.mechanisms_dir, "*.pddl"))))
     if not fragments:
@@ -173,7 +174,7 @@ def run_compose_command(args: argparse.Namespace) -> int:
                                                                    BASIS, fragments, args.planner_seed_offset,
                                                                    split=args.split)]
     trials = _run(args, jobs, "compose")
-    columns = [compose.BY_TASK[t] for t in tasks]
+    columns = [compose.column_of(t) for t in tasks]
     header, rows, lines = compose.table(trials, columns, methods)
     compose.plot(trials, columns, methods, args.timeout, os.path.join(args.out, "table.png"),
                  f"Table 2: {args.trials} {args.split} instances per task, {args.timeout:g} s limit, all mechanisms loaded")
