@@ -145,7 +145,7 @@ def one_error_line(capsys, argv, expected):
 @pytest.mark.parametrize("argv, expected", [
     (["mechanisms", "--tasks", "edge,nosuch"], "unknown nosuch"),
     (["mechanisms", "--methods", "macro,fast"], "unknown fast"),
-    (["compose", "--tasks", "edge"], "unknown edge"),
+    (["compose", "--tasks", "hook-slope,nosuch"], "unknown nosuch"),
     (["mechanisms", "--mechanisms-dir", "/nonexistent"], "/nonexistent/edge.pddl: no such file"),
     (["compose", "--mechanisms-dir", "/nonexistent"], "no .pddl fragments"),
     (["mechanisms", "--trials", "0"], "--trials"),
