@@ -163,6 +163,26 @@ def test_a_failing_script_is_located_at_its_line(tmp_path, capsys):
     assert status == 1 and line.startswith(f"{script}:6: error: the fingers do not hold 'flat'"), line
 
 
+def test_a_script_with_a_bug_is_located_at_its_line(tmp_path, capsys):
+    folder = example_folder(tmp_path)
+    script = os.path.join(folder, "buggy.py")
+    with open(script, "w") as handle:
+        handle.write('PROBLEM = "push-to-edge.pddl"\n\n\ndef demonstrate(hand):\n    hand.open()\n'
+                     '    hand.lift("high")\n')
+    status, line = record(script, capsys)
+    assert status == 1 and line.startswith(f"{script}:6: error: the script failed: TypeError"), line
+
+
+def test_a_scene_that_does_not_build_is_one_located_line(tmp_path, capsys):
+    folder = example_folder(tmp_path)
+    scene = os.path.join(folder, "push-to-edge.pddl")
+    text = open(scene).read().replace(":position (0.48 0.22) :rpy-deg (0 0 90) :on table",
+                                      ":position (0.48 0.22 -0.02) :rpy-deg (0 0 90)")
+    open(scene, "w").write(text)
+    status, line = record(os.path.join(folder, "push-to-edge.demo.json"), capsys)
+    assert status == 2 and line.startswith(f"{scene}:") and "error: scene object 'flat'" in line, line
+
+
 # ---------------------------------------------------------------------- the worked example
 @pytest.mark.parametrize("form", ["push-to-edge.demo.json", "push-to-edge.py"])
 def test_the_worked_example_records_and_extracts_to_its_steps(tmp_path, capsys, form):

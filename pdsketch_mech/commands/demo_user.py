@@ -57,6 +57,9 @@ def record_user(args) -> int:
         if steps and sys.stderr.isatty() else None
     try:
         result = perform_user_demo(demo, problem, args.seed)
+    except PddlError as exc:   # the scene does not build (objects overlap, out of reach)
+        print_error(exc)
+        return 2
     finally:
         if bar is not None:
             bar.close()

@@ -81,6 +81,9 @@ def _load_script(path: str) -> UserDemo:
             demonstrate(hand)
         except DemoError as exc:
             raise DemoFileError(f"{_script_place(path, exc)}: error: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 -- a bug in the user's script, located in it
+            raise DemoFileError(f"{_script_place(path, exc)}: error: the script failed: "
+                                f"{type(exc).__name__}: {exc}") from None
     return UserDemo(path, os.path.join(os.path.dirname(path), problem), getattr(module, "NAME", default_stem(path)),
                     description, act, source)
 
