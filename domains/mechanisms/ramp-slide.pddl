@@ -25,4 +25,5 @@
     :certified (and (support ?target ?object) (handempty))
     :actions (
       (grasp ?target ?support ?g ?t1)
-      (place ?target ?surface ?p ?t2))))
+      (place ?target ?surface ?p ?t2))
+    :sampler "ramp-slide.samplers.safetensors"))
