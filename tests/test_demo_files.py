@@ -146,6 +146,27 @@ def test_until_touches_explains_what_touching_means(tmp_path, capsys):
     assert status == 1 and "neither the hand nor what it holds touched 'flat'" in line and '{"moves": "flat"}' in line
 
 
+BOWL = """(define (problem bowl) (:domain mech-basis) (:objects table cube bowl - item)
+  (:init (handempty) (fixed table) (support cube table) (support bowl table))
+  (:goal (and (support cube bowl) (handempty)))
+  (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+          (cube :asset "small-block/0" :position (0.45 0.15) :rpy-deg (0 0 20) :on table)
+          (bowl :asset "bowl/0" :position (0.5 -0.15) :on table)))"""
+
+
+def test_fingers_wedged_after_a_release_stop_the_demonstration(tmp_path, capsys):
+    """Let go deep inside a bowl, the opening fingers press on its walls: the next lift would
+    carry the bowl off, which a recording must not call a release."""
+    (tmp_path / "bowl.pddl").write_text(BOWL)
+    path = tmp_path / "bowl.demo.json"
+    path.write_text(json.dumps({"format": 1, "steps": [
+        {"do": "open"}, {"do": "move", "to": {"object": "cube"}}, {"do": "grasp", "object": "cube"},
+        {"do": "lift", "distance": 0.1}, {"do": "put", "at": {"object": "bowl", "at": "bottom", "offset": {"up": 0.012}}},
+        {"do": "release"}, {"do": "lift", "distance": 0.1}]}))
+    status, line = record(str(path), capsys)
+    assert status == 1 and "step 6 (release): after the fingers opened, both fingers still press on 'bowl'" in line
+
+
 def test_a_demonstration_that_misses_its_goal_says_so(tmp_path, capsys):
     path = write_demo(tmp_path, [{"do": "close"}, {"do": "lift", "distance": 0.02}])
     status, line = record(path, capsys)

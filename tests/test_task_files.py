@@ -78,7 +78,15 @@ def _cos(degrees: float) -> float:
     ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"shfit": [0, 0]}}},
      "objects: flat: unknown field 'shfit' (did you mean 'shift'?)"),
     ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"assets": ["calculater/0"]}}},
-     "objects: flat: assets: train: unknown asset 'calculater/0'"),
+     "objects: flat: assets: unknown asset 'calculater/0'"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"assets": {"train": ["calculator/0"],
+                                                                                  "tset": ["calculator/2"]}}}},
+     "objects: flat: assets: unknown split 'tset' (did you mean 'test'?)"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"on": "tabel"}}},
+     "objects: flat: on: 'tabel' is not an object of the task (did you mean 'table'?)"),
+    ({"format": 1, "problem": "push-to-edge.pddl", "distractors": {"pool": ["aple/0"], "count": [0, 1],
+                                                                    "region": [[0.3, 0.5], [0, 0.2]]}},
+     "distractors: pool: unknown asset 'aple/0'"),
     ({"format": 1, "problem": "push-to-edge.pddl", "objects": {"flat": {"turn": "a lot"}}},
      "objects: flat: turn: expected a number, got \"a lot\""),
     ({"format": 1, "problem": "nowhere.pddl"}, "problem: "),
@@ -97,6 +105,24 @@ def test_a_bad_distribution_is_one_located_line(tmp_path, document, expected):
     message = str(caught.value)
     assert message.startswith(str(path)) and ": error: " in message and expected in message, message
     assert "\n" not in message
+
+
+def test_an_unknown_asset_suggests_the_closest(tmp_path):
+    shutil.copy(os.path.join(EXAMPLES, "push-to-edge.pddl"), tmp_path / "push-to-edge.pddl")
+    path = tmp_path / "bad.dist.json"
+    path.write_text(json.dumps({"format": 1, "problem": "push-to-edge.pddl",
+                                "objects": {"flat": {"assets": ["calculater/0"]}}}))
+    with pytest.raises(TaskFileError, match=r"\(did you mean 'calculator/0'\?\)"):
+        load_task_file(str(path))
+
+
+def test_envs_warns_when_a_region_holds_fewer_distractors_than_asked(tmp_path, capsys):
+    shutil.copy(os.path.join(EXAMPLES, "push-to-edge.pddl"), tmp_path / "push-to-edge.pddl")
+    path = tmp_path / "crowded.dist.json"
+    path.write_text(json.dumps({"format": 1, "problem": "push-to-edge.pddl", "distractors": {
+        "pool": ["apple/0"], "count": [5, 5], "region": [[0.3, 0.36], [-0.3, -0.24]]}}))
+    assert envs_cli.main([str(path), "--seed", "1"]) == 0
+    assert "distractors placed, fewer than the 5 asked for" in capsys.readouterr().err
 
 
 def test_the_error_points_at_the_offending_key(tmp_path):

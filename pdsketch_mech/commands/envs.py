@@ -76,6 +76,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     else:
         instance = sample(task, args.split, args.seed, vary_assets=not args.canonical_assets)
         text, what = instance.problem_text(), instance.name
+        placed = sum(o.role == "distractor" for o in instance.objects)
+        wanted = task.distractors.count[0] if task.distractors is not None and args.seed is not None else 0
+        if not args.canonical_assets and placed < wanted:
+            print(f"warning: {instance.name}: {placed} distractors placed, fewer than the {wanted} asked for: "
+                  "their region has no more room clear of the other objects", file=sys.stderr)
     if args.out:
         write_text(args.out, text)
         print(f"wrote {args.out}: {what}", file=sys.stderr)

@@ -108,8 +108,13 @@ def task_from_document(document: Any, path: str = "<distribution>", text: str = 
     for spec in specs:
         for field_name in ("on", "frame", "match"):
             other = getattr(spec, field_name)
-            if other is not None and other not in names[:names.index(spec.name)]:
-                raise error(f"objects: {spec.name}: {field_name}: '{other}' is not an object listed before it", spec.name)
+            if other is None or other in names[:names.index(spec.name)]:
+                continue
+            if other not in names:
+                raise error(f"objects: {spec.name}: {field_name}: '{other}' is not an object of the task"
+                            f"{did_you_mean(other, names)}", spec.name)
+            raise error(f"objects: {spec.name}: {field_name}: '{other}' must come before it in \"objects\"",
+                        spec.name)
     goal = document.get("goal", goal)
     if not isinstance(goal, str) or not goal.strip():
         raise error("goal: expected the goal as PDDL text (default: the problem's)", "goal")
@@ -245,21 +250,33 @@ def _object(name: str, base: Optional[ObjectSpec], fields: Any, error) -> Object
 
 def _assets(value: Any, error) -> Assets:
     if isinstance(value, list):
-        value = {"train": value, "test": value}
-    if not isinstance(value, dict) or set(value) - {"train", "test"} or not value.get("train"):
-        raise error("expected {\"train\": [ASSET, ...], \"test\": [ASSET, ...]} (held-out assets for dev and test)")
-    lists = {}
-    for split in ("train", "test"):
-        names = value.get(split, value["train"])
-        if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
-            raise error(f"{split}: expected a non-empty list of asset names")
-        for asset in names:
-            try:
-                asset_info(asset)
-            except ValueError as exc:
-                raise error(f"{split}: {exc}") from None
-        lists[split] = tuple(names)
-    return Assets(lists["train"], lists["test"])
+        return Assets(*(2 * (_asset_list(value, error),)))
+    if not isinstance(value, dict) or not value.get("train"):
+        raise error("expected {\"train\": [ASSET, ...], \"test\": [ASSET, ...]} (held-out assets for dev and test), "
+                    "or one list for both")
+    for key in value:
+        if key not in ("train", "test"):
+            raise error(f"unknown split '{key}'{did_you_mean(key, ('train', 'test'))} (train, test)")
+    train = _asset_list(value["train"], lambda m: error(f"train: {m}"))
+    return Assets(train, _asset_list(value.get("test", value["train"]), lambda m: error(f"test: {m}")))
+
+
+def _asset_list(names: Any, error) -> Tuple[str, ...]:
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise error("expected a non-empty list of asset names")
+    for asset in names:
+        try:
+            asset_info(asset)
+        except ValueError as exc:
+            raise error(f"{exc}{did_you_mean(asset, known_assets())}") from None
+    return tuple(names)
+
+
+def known_assets() -> List[str]:
+    """Every asset name of the manifest (`category/variant`)."""
+    from ..world.asset_index import load_manifest
+    categories = load_manifest()["categories"]
+    return [f"{c}/{i}" for c, entry in categories.items() for i in range(len(entry["variants"]))]
 
 
 def _distractors(value: Any, error) -> Optional[Distractors]:
@@ -269,7 +286,7 @@ def _distractors(value: Any, error) -> Optional[Distractors]:
     if not isinstance(value, dict) or set(value) != set(fields):
         raise error("distractors: expected {\"pool\": [ASSET, ...], \"count\": [MIN, MAX], "
                     "\"region\": [[X0, X1], [Y0, Y1]]} (on the table, whose top is at z = 0)", "distractors")
-    pool = _assets({"train": value["pool"]}, lambda m: error(f"distractors: pool: {m}", "distractors")).train
+    pool = _asset_list(value["pool"], lambda m: error(f"distractors: pool: {m}", "distractors"))
     count = value["count"]
     if not (isinstance(count, list) and len(count) == 2 and all(isinstance(c, int) and c >= 0 for c in count)
             and count[0] <= count[1]):

@@ -95,6 +95,7 @@ class Hand:
     def open(self) -> None:
         """Open the fingers fully."""
         self.driver.open()
+        self.check_fingers_free("after the fingers opened")
 
     def close(self) -> None:
         """Close the empty fingers (to push with the fingertips)."""
@@ -112,10 +113,22 @@ class Hand:
             raise DemoError(f"the fingers do not hold '{name}': {exc}") from None
 
     def release(self) -> None:
-        """Let go of what the hand holds and open the fingers."""
+        """Let go of what the hand holds and open the fingers; they must come free of
+        everything (fingers wedged against a bowl's walls would carry it off on the next lift)."""
         if self.world.attachment is None:
             raise DemoError("the hand holds nothing to release")
         self.driver.release()
+        self.check_fingers_free("after the fingers opened")
+
+    def check_fingers_free(self, when: str) -> None:
+        """DemoError if both fingers press on one object while the hand holds nothing."""
+        from ...operators.execution import fingers_touching
+        if self.world.attachment is not None:
+            return
+        for name in self.world.movable():
+            if fingers_touching(self.world, name) == 2:
+                raise DemoError(f"{when}, both fingers still press on '{name}': the hand would carry it off; "
+                                "let go where the fingers have room to open")
 
     # ------------------------------------------------------------------ motions
     def move_to(self, point: Vector, approach: Vector = (0.0, 0.0, -1.0), closing: Optional[Vector] = None,
