@@ -15,7 +15,7 @@ from typing import Callable, Dict, Iterator, List, Optional, Set
 
 import numpy as np
 
-from ..symbolic.task import StripsTask
+from ..symbolic.task import StripsTask, bits
 from ..world.snapshot import Snapshot
 from ..world.world import World
 from .bindings import StepSampler
@@ -137,9 +137,11 @@ class Refinement:
             observed = observed_state(self.task, world)
             if mismatch(observed, step, self.observable):
                 self._failed(i, values, "simulated contacts differ from the skeleton")
+                self._end_visit_if_decided_before(i, observed)
                 continue
             if step.certified and not self._certified(step, observed):
                 self._failed(i, values, "its :certified facts do not hold after its steps", mechanism=True)
+                self._end_visit_if_decided_before(i, observed)
                 continue
             self._note(i, True)
             if self.evidence is not None and self.evidence.is_dead(step.name, step.args):
@@ -204,6 +206,26 @@ class Refinement:
             return False
         world.restore(self.snapshots[i])
         return not any(world.moved_since(self.snapshots[j], a) for a in acted_on)
+
+    def _end_visit_if_decided_before(self, i: int, observed: int) -> None:
+        """A mechanism's last step that failed on certified facts about objects it neither
+        names nor moved (the box a held stick did not push onto the platform, found wrong once
+        the stick is put down) cannot succeed with other values: the steps before decided it,
+        so the search goes back to them now instead of drawing the rest of this visit. (The
+        paper's mechanisms certify facts about what their last step handles: never so.)"""
+        step, world = self.steps[i], self.world
+        if not step.certified:
+            return
+        promised = 0
+        for true, false in step.certified:
+            promised |= true | false
+        wrong = (observed ^ step.expected) & self.observable & promised
+        named = {arg for fact in bits(wrong) for arg in self.task.facts[fact][1:]}
+        movable = [n for n in named if n in world.bodies and not world.bodies[n].fixed]
+        if not movable or set(movable) & set(step.args):
+            return
+        if not any(world.moved_since(self.snapshots[i], n) for n in movable):
+            self.generators[i] = iter(())
 
     def _dead_where_it_began(self, i: int) -> bool:
         """Whether step i is a step found dead (evidence.py) that earlier steps touched but
