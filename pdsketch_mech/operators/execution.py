@@ -8,16 +8,17 @@ of a plan file, and the planner's own executions the same code path as replay's.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional, Sequence, Set
+from typing import TYPE_CHECKING, List, Optional, Sequence, Set
 
 import numpy as np
 import pybullet as p
 
 from ..world.motion import cartesian_path, path_collision
-from ..world.render import Camera, View, render, scene_camera
+from ..world.render import Camera, View, movable_boxes, render, scene_camera
 from ..world.robot import FINGER_JOINTS
 
 if TYPE_CHECKING:
+    from ..world.snapshot import Snapshot
     from ..world.world import World
 
 STEPS_PER_WAYPOINT = 8   # ~33 ms of simulated time per 1 cm waypoint: pushes move at ~0.3 m/s
@@ -35,18 +36,34 @@ class ExecutionError(Exception):
 
 class FrameRecorder:
     """Collects frames of an execution for a GIF: one every `every` waypoints, with `camera`,
-    or by default one that frames the scene as the first frame shows it, from `view`."""
+    or by default with one that frames everywhere the movable objects went, from `view` (a
+    block let go on a ramp ends where it slid to): the world's states are kept, and rendered
+    by `finish` once the run is over, the camera fixed (a GIF's view does not move)."""
 
     def __init__(self, camera: Optional[Camera] = None, every: int = 4, view: View = View()):
         self.camera, self.every, self.view, self.frames = camera, every, view, []
         self._count = 0
+        self._states: List["Snapshot"] = []
+        self._boxes: List = []
 
     def tick(self, world: "World", force: bool = False) -> None:
         self._count += 1
         if force or self._count % self.every == 0:
-            if self.camera is None:  # fixed at the first frame: a GIF's view does not move
-                self.camera = scene_camera(world, self.view)
-            self.frames.append(render(world, self.camera))
+            if self.camera is not None:
+                self.frames.append(render(world, self.camera))
+                return
+            self._states.append(world.snapshot())
+            self._boxes += movable_boxes(world)
+
+    def finish(self, world: "World") -> None:
+        """Render the kept states (the world is left in the last one)."""
+        if not self._states:
+            return
+        camera = scene_camera(world, self.view, boxes=self._boxes or None)
+        for state in self._states:
+            world.restore(state)
+            self.frames.append(render(world, camera))
+        self._states, self._boxes = [], []
 
 
 def _check_start(world: "World", path: Sequence[Sequence[float]], what: str) -> None:

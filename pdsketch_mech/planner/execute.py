@@ -113,10 +113,14 @@ def execute_plan(task: StripsTask, problem: Problem, steps: Sequence[Dict[str, A
             values = {name: from_json(value) for name, value in step.get("params", {}).items()}
             outcome = execute_step(world, world.snapshot(), step["name"], step["args"], values, recorder)
             if not outcome.ok:
+                if recorder:   # what happened up to there
+                    recorder.finish(world)
                 return ExecutionResult(False, f"step {index} ({step['name']}) failed: {outcome.reason}", index)
         if recorder:
             recorder.tick(world, force=True)
         observable = contact_mask(task)
         reached = goal_holds(task, (observed_state(task, world) & observable) | (task.init & ~observable))
+        if recorder:
+            recorder.finish(world)
     return ExecutionResult(reached, "the goal holds in the simulation" if reached else
                            "the goal does not hold at the end")

@@ -44,12 +44,19 @@ FRAME_MARGIN = 1.15        # the framed region's bounding sphere fills the view'
 DISTANCES = (0.5, 4.0)     # metres a framing camera stays within
 
 
-def scene_camera(world: "World", view: View = View(), size: Tuple[int, int] = FRAMED_SIZE) -> Camera:
-    """A camera on the region the plan acts in: the bounding box of the movable objects,
-    with HEADROOM above them, and the robot's shoulder, where its reach starts (so that the
-    arm is seen coming in), from `view`'s yaw and pitch, as close as shows all of it (or at
-    `view.distance`). A scene without movable objects gets the default target."""
-    boxes = [world.aabb(name) for name in world.movable()]
+def movable_boxes(world: "World") -> List[Tuple[np.ndarray, np.ndarray]]:
+    """The world AABBs of the movable objects where they are now."""
+    return [world.aabb(name) for name in world.movable()]
+
+
+def scene_camera(world: "World", view: View = View(), size: Tuple[int, int] = FRAMED_SIZE,
+                 boxes: Optional[Sequence[Tuple[np.ndarray, np.ndarray]]] = None) -> Camera:
+    """A camera on the region the plan acts in: the bounding box of the movable objects
+    (where they are now, or `boxes`: everywhere they went), with HEADROOM above them, and the
+    robot's shoulder, where its reach starts (so that the arm is seen coming in), from
+    `view`'s yaw and pitch, as close as shows all of it (or at `view.distance`). A scene
+    without movable objects gets the default target."""
+    boxes = movable_boxes(world) if boxes is None else list(boxes)
     if boxes:
         lo = np.min([b[0] for b in boxes] + [world.shoulder], axis=0)
         hi = np.max([b[1] + (0.0, 0.0, HEADROOM) for b in boxes] + [world.shoulder], axis=0)
