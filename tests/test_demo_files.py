@@ -174,24 +174,17 @@ def test_a_demonstration_that_misses_its_goal_says_so(tmp_path, capsys):
                                            "does not hold at the end"), line
 
 
-def test_a_failing_script_is_located_at_its_line(tmp_path, capsys):
+@pytest.mark.parametrize("last_line, expected", [
+    ('hand.grasp("flat")', "the fingers do not hold 'flat'"),          # a step the robot cannot do
+    ('hand.lift("high")', "the script failed: TypeError"),              # a bug in the script
+])
+def test_a_failing_script_is_located_at_its_line(tmp_path, capsys, last_line, expected):
     folder = example_folder(tmp_path)
-    script = os.path.join(folder, "bad.py")
+    script = os.path.join(folder, "mine.py")
     with open(script, "w") as handle:
-        handle.write('PROBLEM = "push-to-edge.pddl"\n\n\ndef demonstrate(hand):\n    hand.open()\n'
-                     '    hand.grasp("flat")\n')
+        handle.write(f'PROBLEM = "push-to-edge.pddl"\n\n\ndef demonstrate(hand):\n    hand.open()\n    {last_line}\n')
     status, line = record(script, capsys)
-    assert status == 1 and line.startswith(f"{script}:6: error: the fingers do not hold 'flat'"), line
-
-
-def test_a_script_with_a_bug_is_located_at_its_line(tmp_path, capsys):
-    folder = example_folder(tmp_path)
-    script = os.path.join(folder, "buggy.py")
-    with open(script, "w") as handle:
-        handle.write('PROBLEM = "push-to-edge.pddl"\n\n\ndef demonstrate(hand):\n    hand.open()\n'
-                     '    hand.lift("high")\n')
-    status, line = record(script, capsys)
-    assert status == 1 and line.startswith(f"{script}:6: error: the script failed: TypeError"), line
+    assert status == 1 and line.startswith(f"{script}:6: error: {expected}"), line
 
 
 def test_a_scene_that_does_not_build_is_one_located_line(tmp_path, capsys):
