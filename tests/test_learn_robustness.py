@@ -13,7 +13,8 @@ from dataclasses import replace
 import pytest
 
 from pdsketch_mech.commands import demo as demo_cli
-from pdsketch_mech.envs import TASKS, sample
+from pdsketch_mech.envs import sample
+from pdsketch_mech.envs.task_file import resolve_task
 from pdsketch_mech.lang.loader import read_domain_file
 from pdsketch_mech.learning.extract import extract
 from pdsketch_mech.learning.paths import MECHANISMS_DIR
@@ -25,11 +26,14 @@ from test_learn_extract import EXPECTED_STEPS, FRAGMENT, grounded
 pytestmark = pytest.mark.slow
 
 
-def record(tmp_path, *args) -> str:
-    assert demo_cli.main(["record", *args, "--out", str(tmp_path)]) == 0
-    stem = args[0] + ("-distractor-push" if "--variant" in args else "")
+def record(tmp_path, demo, *args) -> str:
+    """Record the built-in demonstration `demo`, or its demonstration file if it has one."""
+    demo_file = os.path.join(MECHANISMS_DIR, "demos", f"{demo}.demo.json")
+    from_file = os.path.isfile(demo_file)
+    assert demo_cli.main(["record", demo_file if from_file else demo, *args, "--out", str(tmp_path)]) == 0
+    stem = demo + ("-distractor-push" if "--variant" in args else "")
     if "--seed" in args:
-        stem += f"-train-{args[args.index('--seed') + 1]}"
+        stem += f"-{'seed' if from_file else 'train'}-{args[args.index('--seed') + 1]}"
     return str(tmp_path / stem)
 
 
@@ -53,18 +57,19 @@ def test_an_extra_push_of_a_distractor_is_part_of_the_fragment(tmp_path):
 
 
 # Seconds allowed per mechanism on a busy 2-core machine (measured: README, "Extracted mechanisms").
-MACRO_TIMEOUT = {"hook": 400, "edge": 200, "lever": 200, "poking": 200, "com": 120, "slope-blocker": 120}
+MACRO_TIMEOUT = {"hook": 400, "edge": 200, "lever": 200, "poking": 200, "com": 120, "slope-blocker": 120,
+                 "gap-push": 400, "ramp-slide": 120}
 # Plans that carry out the mechanism's strategy: its macro, or its very steps as basis operators
 # (Poking's canonical instance is solved that way since skeletons draw by their labels). Edge and
 # Lever were solved by other basis steps.
-USES_MECHANISM = {"hook", "poking", "com", "slope-blocker"}
+USES_MECHANISM = {"hook", "poking", "com", "slope-blocker", "gap-push", "ramp-slide"}
 
 
 @pytest.mark.parametrize("demo", sorted(EXPECTED_STEPS))
 def test_each_fragment_with_generic_samplers_solves_its_canonical_instance(tmp_path, demo):
     name = FRAGMENT.get(demo, demo)
     problem = tmp_path / f"{demo}.pddl"
-    problem.write_text(sample(TASKS[demo], "train", None).problem_text())
+    problem.write_text(sample(resolve_task(demo), "train", None).problem_text())
     out = tmp_path / "plan.json"
     result = subprocess.run([sys.executable, "-m", "pdsketch_mech.plan", os.path.join(MECHANISMS_DIR, f"{name}.pddl"),
                              str(problem), "--seed", "0", "--timeout", str(MACRO_TIMEOUT[demo]), "--json", str(out),

@@ -679,7 +679,7 @@ def test_planning_with_learned_samplers_does_not_import_torch():
             "from pdsketch_mech.api.planner import learned_samplers\n"
             "loaded = load_domain(['domains/basis.pddl', *sorted(glob.glob('domains/mechanisms/*.pddl'))])\n"
             "learned = learned_samplers(loaded, use_learned=True, use_mechanisms=True)\n"
-            "assert len(learned) == 6, sorted(learned)\n"
+            "assert len(learned) == sum(m.sampler is not None for m in loaded.domain.mechanisms) >= 6, sorted(learned)\n"
             "print('torch' in sys.modules)\n")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

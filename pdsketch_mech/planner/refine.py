@@ -135,13 +135,13 @@ class Refinement:
             if self.evidence is not None:
                 self.evidence.found(self.pristine[i])
             observed = observed_state(self.task, world)
-            if mismatch(observed, step, self.observable):
-                self._failed(i, values, "simulated contacts differ from the skeleton")
-                self._end_visit_if_decided_before(i, observed)
-                continue
+            # A mechanism's promise first: its last step expects the certified facts too.
             if step.certified and not self._certified(step, observed):
                 self._failed(i, values, "its :certified facts do not hold after its steps", mechanism=True)
                 self._end_visit_if_decided_before(i, observed)
+                continue
+            if mismatch(observed, step, self.observable):
+                self._failed(i, values, "simulated contacts differ from the skeleton")
                 continue
             self._note(i, True)
             if self.evidence is not None and self.evidence.is_dead(step.name, step.args):
