@@ -1,6 +1,7 @@
 """Every goal form plans and replays; unsolvable and timed-out runs say which; a scene that
 moves when it settles is reported; nothing the user wrote is silently ignored (a missing
 :sampler file, a mechanism's :certified, --validate, --no-learned-samplers)."""
+import json
 import os
 import shutil
 from collections import Counter
@@ -104,6 +105,15 @@ def test_a_missing_sampler_checkpoint_is_a_located_error(write_files, capsys):
     assert check.main([fragment]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"{fragment}:3:3: error: mechanism 'grab-other': :sampler file 'grab.pt' not found")
+
+
+def test_a_checkpoint_trained_on_few_episodes_is_a_located_warning(tmp_path, capsys):
+    fragment, _, _ = com_copy(tmp_path)
+    metadata = tmp_path / "com.samplers.json"
+    metadata.write_text(json.dumps(dict(json.loads(metadata.read_text()), episodes=3)))
+    assert check.main([fragment]) == 0
+    assert "warning: mechanism 'com': its learned samplers were trained on 3 self-play episodes" \
+        in capsys.readouterr().err
 
 
 def test_a_checkpoint_that_cannot_be_loaded_stops_the_plan_unless_declined(write_files, capsys):

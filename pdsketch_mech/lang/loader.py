@@ -8,6 +8,7 @@ extends, relative to itself; loading it loads those first and merges everything 
 from __future__ import annotations
 
 import glob
+import json
 import os
 import re
 from dataclasses import dataclass, replace
@@ -98,6 +99,35 @@ def _check_sampler_files(path: str, domain: Domain, required: bool, warnings: Li
             if required:
                 raise PddlError(message, mechanism.loc)
             warnings.append(PddlWarning(f"{message}; its learned samplers are not used", mechanism.loc))
+            continue
+        weak = _weak_training(checkpoint)
+        if weak:
+            warnings.append(PddlWarning(f"mechanism '{mechanism.name}': its learned samplers were trained on {weak}: "
+                                        "they may rank worse than the generic ones (more `learn train "
+                                        "--episodes`, or plan --no-learned-samplers)", mechanism.loc))
+
+
+MIN_EPISODES = 20   # self-play episodes below which a checkpoint's ranking is a guess
+
+
+def _weak_training(checkpoint: str) -> str:
+    """What is thin about the training of `checkpoint` (its metadata beside it), or ''."""
+    metadata = checkpoint[:-len(".safetensors")] + ".json" if checkpoint.endswith(".safetensors") else ""
+    try:
+        with open(metadata, encoding="utf-8") as handle:
+            info = json.load(handle)
+    except (OSError, ValueError):
+        return ""
+    if not isinstance(info, dict):   # a malformed file is the checkpoint loader's to report
+        return ""
+    episodes = info.get("episodes")
+    aucs = [v.get("auc") for v in (info.get("validation") or {}).values() if isinstance(v, dict)]
+    aucs = [a for a in aucs if isinstance(a, (int, float))]
+    if isinstance(episodes, int) and episodes < MIN_EPISODES:
+        return f"{episodes} self-play episodes"
+    if aucs and max(aucs) <= 0.5:
+        return f"data none of whose classifiers ranks better than chance on validation (AUC at most {max(aucs):.2f})"
+    return ""
 
 
 def merge_domains(base: Domain, extra: Domain) -> Domain:
