@@ -10,7 +10,7 @@ import os
 import pytest
 
 from pdsketch_mech.envs.generate import sample
-from pdsketch_mech.envs.task_file import resolve_task
+from pdsketch_mech.envs.task_names import resolve_task
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import prepare_task

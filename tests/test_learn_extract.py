@@ -204,7 +204,7 @@ def test_roles_name_the_variables():
 
 def test_fragments_load_with_their_canonical_problems(tmp_path):
     from pdsketch_mech.envs import sample
-    from pdsketch_mech.envs.task_file import resolve_task
+    from pdsketch_mech.envs.task_names import resolve_task
     for demo in EXPECTED_STEPS:
         problem = tmp_path / f"{demo}.pddl"
         problem.write_text(sample(resolve_task(demo), "train", None).problem_text())

@@ -14,7 +14,7 @@ import pytest
 
 from pdsketch_mech.commands import demo as demo_cli
 from pdsketch_mech.envs import sample
-from pdsketch_mech.envs.task_file import resolve_task
+from pdsketch_mech.envs.task_names import resolve_task
 from pdsketch_mech.lang.loader import read_domain_file
 from pdsketch_mech.learning.extract import extract
 from pdsketch_mech.learning.paths import MECHANISMS_DIR

@@ -13,9 +13,8 @@ import pytest
 from pdsketch_mech.commands import envs as envs_cli
 from pdsketch_mech.commands import learn as learn_cli
 from pdsketch_mech.envs.generate import sample
-from pdsketch_mech.envs.task_file import (
-    TaskFileError, dump_document, load_task_file, resolve_task, task_document, task_from_document,
-)
+from pdsketch_mech.envs.task_file import TaskFileError, dump_document, load_task_file, task_document
+from pdsketch_mech.envs.task_names import resolve_task
 from pdsketch_mech.envs.tasks import TASKS
 
 from conftest import ROOT

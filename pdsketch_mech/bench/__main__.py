@@ -211,7 +211,8 @@ def run_samplers_command(args: argparse.Namespace) -> int:
     task = args.task or task_of(fragment, args.name)
     if task is None:
         raise ipc.BenchError(f"{args.name}: no task distribution of that name or of its demonstration; give --task")
-    from ..envs.task_file import TaskFileError, resolve_task
+    from ..envs.task_file import TaskFileError
+    from ..envs.task_names import resolve_task
     try:
         resolve_task(task)
     except (KeyError, TaskFileError) as exc:

@@ -29,7 +29,7 @@ def column_of(task: str) -> PaperComposition:
     beyond the paper."""
     if task in BY_TASK:
         return BY_TASK[task]
-    from ..envs.task_file import resolve_task
+    from ..envs.task_names import resolve_task
     return PaperComposition(task, resolve_task(task).title, {})
 
 

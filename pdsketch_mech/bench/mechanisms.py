@@ -48,7 +48,7 @@ def column_of(task: str) -> PaperTask:
     the paper (its mechanism has the task's name)."""
     if task in BY_TASK:
         return BY_TASK[task]
-    from ..envs.task_file import resolve_task
+    from ..envs.task_names import resolve_task
     spec = resolve_task(task)
     return PaperTask(task, spec.title, spec.name, {})
 
@@ -67,7 +67,7 @@ def instance_jobs(task: str, methods: Sequence[str], trials: int, seed: int, tim
     """Trial i of every method plans the `split` instance of seed `seed + i` with planner
     seed `seed + i + planner_seed_offset`: the methods see the same instances."""
     from ..envs.generate import sample
-    from ..envs.task_file import resolve_task
+    from ..envs.task_names import resolve_task
     jobs = []
     for i in range(trials):
         instance = sample(resolve_task(task), split, seed + i)

@@ -17,7 +17,7 @@ from typing import List, Sequence
 
 from ..commands.common import EXIT_OK, EXIT_UNSOLVED, count, seconds, seed
 from ..envs.spec import SPLITS
-from ..envs.task_file import task_names
+from ..envs.task_names import task_names
 from ..util.files import write_json, write_text
 from ..util.progress import progress_bar
 from . import compose, mechanisms

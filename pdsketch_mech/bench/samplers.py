@@ -61,7 +61,7 @@ def run_samplers(task_name: str, fragment: str, instances: int, split: str, seed
     from concurrent.futures import ThreadPoolExecutor
 
     from ..envs.generate import sample
-    from ..envs.task_file import resolve_task
+    from ..envs.task_names import resolve_task
     with tempfile.TemporaryDirectory() as tmp:
         jobs = []
         for k in range(instances):

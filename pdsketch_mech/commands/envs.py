@@ -18,7 +18,7 @@ from .common import ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, output_error, whole
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     from ..envs.spec import SPLITS
-    from ..envs.task_file import task_names
+    from ..envs.task_names import task_names
 
     parser = ArgumentParser(prog="python -m pdsketch_mech.envs", description=__doc__.split("\n\n")[0])
     parser.add_argument("task", nargs="?", metavar="TASK", help=f"one of: {', '.join(task_names())}; or a distribution "
@@ -38,12 +38,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(argv)
 
     if args.list:
-        from ..envs.task_file import resolve_task
+        from ..envs.task_names import resolve_task
         for name in task_names():
             task = resolve_task(name)
             print(f"{task.name:14s} {task.title}: {task.description}")
         return EXIT_OK
-    from ..envs.task_file import TaskFileError, dump_document, resolve_task, task_document
+    from ..envs.task_file import TaskFileError, dump_document, task_document
+    from ..envs.task_names import resolve_task
 
     error, task = None, None
     if args.task is not None:

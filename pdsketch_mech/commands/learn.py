@@ -234,7 +234,8 @@ def _prepare_selfplay(args):
     if isinstance(found, int):
         return found
     fragment, mechanism = found
-    from ..envs.task_file import TaskFileError, is_task_file, resolve_task, task_names
+    from ..envs.task_file import TaskFileError, is_task_file
+    from ..envs.task_names import resolve_task, task_names
     task = args.task or task_of(fragment, args.name)
     if task is None:
         return fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "

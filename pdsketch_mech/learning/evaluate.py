@@ -28,7 +28,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..envs.generate import sample
-from ..envs.task_file import resolve_task
+from ..envs.task_names import resolve_task
 from .sampler_data import context_groups, param_data
 from .sampler_training import roc_auc, to_batch
 from .selfplay_store import StoreError, read_manifest

@@ -35,7 +35,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..envs.generate import sample as sample_instance
-from ..envs.task_file import resolve_task, task_names
+from ..envs.task_names import resolve_task, task_names
 from ..envs.tasks import TASKS
 from ..lang.loader import LoadedDomain, load_domain
 from ..lang.nodes import Mechanism, Problem
