@@ -52,9 +52,8 @@ def record_user(args) -> int:
         return fail(taken)
 
     start = time.perf_counter()
-    steps = demo.text.count('"do"') if demo.path.endswith(".json") else None
-    bar = progress_bar(total=steps, desc=f"demo {default_stem(args.name)}", unit="step", leave=False) \
-        if steps and sys.stderr.isatty() else None
+    bar = progress_bar(total=demo.steps, desc=f"demo {default_stem(args.name)}", unit="step", leave=False) \
+        if demo.steps and sys.stderr.isatty() else None
     try:
         result = perform_user_demo(demo, problem, args.seed)
     except PddlError as exc:   # the scene does not build (objects overlap, out of reach)

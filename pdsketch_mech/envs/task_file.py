@@ -18,6 +18,7 @@ import json
 import math
 import os
 import re
+from dataclasses import replace
 from typing import Any, Dict, List, Optional, Tuple
 
 from ..lang.errors import PddlError, did_you_mean
@@ -156,7 +157,7 @@ def _from_problem(path: str, error) -> Tuple[Dict[str, ObjectSpec], str]:
             support = specs[spec.on]
             dx, dy = spec.xy[0] - support.xy[0], spec.xy[1] - support.xy[1]
             c, s = math.cos(math.radians(support.yaw)), math.sin(math.radians(support.yaw))
-            specs[name] = _replace(spec, xy=(c * dx + s * dy, -s * dx + c * dy), yaw=spec.yaw - support.yaw,
+            specs[name] = replace(spec, xy=(c * dx + s * dy, -s * dx + c * dy), yaw=spec.yaw - support.yaw,
                                    frame=spec.on)
     return specs, formula(problem.goal)
 
@@ -168,11 +169,6 @@ def _euler(q: Tuple[float, float, float, float]) -> Tuple[float, float, float]:
     pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
     yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
     return roll, pitch, yaw
-
-
-def _replace(spec: ObjectSpec, **changes) -> ObjectSpec:
-    from dataclasses import replace
-    return replace(spec, **changes)
 
 
 def _ordered(base: Dict[str, ObjectSpec], objects: Dict[str, Any]) -> Dict[str, Any]:

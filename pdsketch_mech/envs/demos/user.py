@@ -44,6 +44,7 @@ class UserDemo:
     act: Callable[[Hand], None]
     text: str                 # the demonstration file's text, or the script's
     check: Callable[[Sequence[str]], None] = lambda objects: None   # DemoFileError for a name not in the scene
+    steps: Optional[int] = None   # how many steps a demonstration file has (a script's are unknown)
 
 
 def load_user_demo(path: str, on_step: Optional[Callable[[HandCommand], None]] = None) -> UserDemo:
@@ -57,7 +58,7 @@ def load_user_demo(path: str, on_step: Optional[Callable[[HandCommand], None]] =
     def act(hand: Hand) -> None:
         execute(demo, hand, on_step)
     return UserDemo(path, demo.problem_path, demo.name, demo.description, act, demo.text,
-                    lambda objects: check_names(demo, objects))
+                    lambda objects: check_names(demo, objects), len(demo.steps))
 
 
 def _load_script(path: str) -> UserDemo:
