@@ -25,4 +25,5 @@
     :actions (
       (grasp ?tool ?support ?g ?t1)
       (move-cont ?tool ?target ?support ?c ?t2)
-      (place ?tool ?support ?p ?t3))))
+      (place ?tool ?support ?p ?t3))
+    :sampler "gap-push.samplers.safetensors"))
