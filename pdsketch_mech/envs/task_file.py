@@ -26,7 +26,7 @@ from ..lang.nodes import Problem
 from ..lang.parser import parse_file
 from ..lang.scene import build_scene
 from ..lang.writer import formula
-from ..world.asset_index import asset_info
+from ..world.asset_index import asset_info, asset_names
 from .spec import Align, Assets, Distractors, ObjectSpec, TaskSpec
 
 FORMAT = 1
@@ -263,15 +263,8 @@ def _asset_list(names: Any, error) -> Tuple[str, ...]:
         try:
             asset_info(asset)
         except ValueError as exc:
-            raise error(f"{exc}{did_you_mean(asset, known_assets())}") from None
+            raise error(f"{exc}{did_you_mean(asset, asset_names())}") from None
     return tuple(names)
-
-
-def known_assets() -> List[str]:
-    """Every asset name of the manifest (`category/variant`)."""
-    from ..world.asset_index import load_manifest
-    categories = load_manifest()["categories"]
-    return [f"{c}/{i}" for c, entry in categories.items() for i in range(len(entry["variants"]))]
 
 
 def _distractors(value: Any, error) -> Optional[Distractors]:

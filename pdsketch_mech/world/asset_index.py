@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import os
 from functools import lru_cache
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from ..util.data import data_path
 
@@ -61,6 +61,12 @@ def asset_info(name: str, root: Optional[str] = None) -> Dict[str, Any]:
         raise ValueError(f"unknown asset {name!r}: category {category!r} has variants "
                          f"0..{len(variants) - 1}")
     return dict(variants[variant], category=category, variant=variant, fixed=categories[category]["fixed"])
+
+
+def asset_names(root: Optional[str] = None) -> List[str]:
+    """Every asset of the manifest, as `category/variant`."""
+    categories = load_manifest(root)["categories"]
+    return [f"{c}/{i}" for c, entry in categories.items() for i in range(len(entry["variants"]))]
 
 
 def resolve_asset(name: str, root: Optional[str] = None) -> str:
