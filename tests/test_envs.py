@@ -12,8 +12,8 @@ from pdsketch_mech.envs import TASKS, get_task, sample
 from pdsketch_mech.commands.envs import main as envs_main
 from pdsketch_mech.envs.generate import first_overlap
 from pdsketch_mech.lang.loader import load_domain
-from pdsketch_mech.lang.nodes import Problem
 from pdsketch_mech.lang.parser import parse_text
+from pdsketch_mech.lang.scene import build_scene
 from pdsketch_mech.world.asset_index import asset_info
 
 from conftest import ROOT
@@ -90,7 +90,8 @@ def test_generated_problems_parse_type_check_and_do_not_overlap(task):
     for split, seed in (("train", None), ("train", 1), ("dev", 2)):
         inst = sample(TASKS[task], split, seed)
         problem = parse_text(inst.problem_text())
-        assert isinstance(problem, Problem)
+        assert problem.name == inst.name    # the text describes the instance: its objects, of its assets
+        assert {(o.name, o.asset) for o in build_scene(problem)} == {(o.name, o.asset) for o in inst.objects}
         check_problem(problem, domain.domain, domain.types)
         assert first_overlap(TASKS[task], inst.objects) is None
 

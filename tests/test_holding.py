@@ -1,6 +1,7 @@
 """A held object moves rigidly with the hand: after grasp + lift + a 90-degree wrist turn,
-all simulated with physics, the object sits at the sampled grasp (every graspable asset);
-a grasp whose fingers miss the object is not a grasp."""
+all simulated with physics, the object sits at the sampled grasp (every asset the gripper can
+hold lying flat; the grasp sampler finds none of the others); a grasp whose fingers miss the
+object is not a grasp."""
 import itertools
 import json
 import os
@@ -27,6 +28,34 @@ MANIFEST = json.load(open(os.path.join(ASSETS, "manifest.json")))
 def movable_assets():
     return [f"{cat}/{i}" for cat, entry in MANIFEST["categories"].items() if not entry["fixed"]
             for i in range(len(entry["variants"]))]
+
+
+# Lying flat, these are out of the gripper's range: wider than its 7.5 cm grasp (bricks,
+# calculators 0 and 2), or too low to pinch with the fingertips grasp.SUPPORT_CLEARANCE above
+# the table (documents, 9 mm calipers, a plate's 6 mm floor and 1.5 cm rim). Plates, documents
+# and calipers are grasped once pushed over an edge.
+OUT_OF_RANGE_LYING_FLAT = {f"{cat}/{i}" for cat in ("brick", "plate", "document", "caliper") for i in range(3)} \
+    | {"calculator/0", "calculator/2"}
+# Assets the gripper can hold lying flat but the grasp sampler finds no grasp of. banana/1
+# (3.0 cm tall): a level top-down pinch across its middle verifies and holds through the lift
+# and the turn, its fingertips 8.8 mm above the table; but the faces of its capsules' low-poly
+# cross-section lean about 15 degrees at the sides, so every antipodal pair of its mesh closes
+# about 11 degrees off level, and with the fingers open 2 cm wider than the banana the lower
+# fingertip of every frame the sampler builds ends at most 4.9 mm above the table (5 needed).
+MISSED_GRASPS = {"banana/1": "every antipodal pair closes ~11 deg off level: the lower fingertip "
+                             "ends under grasp.SUPPORT_CLEARANCE above the table"}
+
+
+class NoGraspFound(AssertionError):
+    """The grasp sampler found no grasp of an asset the gripper can hold."""
+
+
+def graspable_assets():
+    """The movable assets in the gripper's range lying flat; those whose grasps the sampler
+    misses are expected to fail, strictly: a sampler that finds them must say so here."""
+    return [pytest.param(asset, marks=pytest.mark.xfail(strict=True, raises=NoGraspFound, reason=MISSED_GRASPS[asset]))
+            if asset in MISSED_GRASPS else asset
+            for asset in movable_assets() if asset not in OUT_OF_RANGE_LYING_FLAT]
 
 
 def object_world(asset):
@@ -66,13 +95,20 @@ def turn_wrist(world, angle):
     follow_dynamic(world, path, "wrist turn")
 
 
-@pytest.mark.parametrize("asset", movable_assets())
+@pytest.mark.parametrize("asset", sorted(OUT_OF_RANGE_LYING_FLAT))
+def test_no_grasp_is_sampled_of_an_asset_lying_flat_out_of_the_grippers_range(asset):
+    with object_world(asset) as world:
+        grasp = next(sample_grasps(world, "thing", np.random.default_rng(0)), None)
+        assert grasp is None, f"a grasp of {asset} lying flat: {grasp}"
+
+
+@pytest.mark.parametrize("asset", graspable_assets())
 def test_held_object_stays_at_the_sampled_grasp_through_lift_and_wrist_turn(asset):
     rng = np.random.default_rng(0)
     with object_world(asset) as world:
-        grasps = list(itertools.islice(sample_grasps(world, "thing", rng, max_attempts=150), 12))
-        if not grasps:  # plates, documents, calipers, bricks lying flat: too thin or too wide
-            pytest.skip(f"the grasp sampler finds no grasp of {asset} lying flat")
+        grasps = list(itertools.islice(sample_grasps(world, "thing", rng), 12))
+        if not grasps:
+            raise NoGraspFound(f"the grasp sampler finds no grasp of {asset} lying flat")
         found = grasp_and_lift(world, grasps, rng)
         assert found is not None, f"none of {len(grasps)} sampled grasps of {asset} executes"
         grasp, lifted = found

@@ -202,14 +202,27 @@ def test_roles_name_the_variables():
     assert n.Not(n.Atom("support", (n.Var("?target"), n.Var("?support")))) in com.certified.parts
 
 
-def test_fragments_load_with_their_canonical_problems(tmp_path):
+def test_each_fragment_grounds_in_its_canonical_problem_as_the_demonstrated_steps(tmp_path):
+    """The problem's (:domain mech-basis) resolves to the fragment, and one of the mechanism's
+    macros grounded on the problem's objects is the demonstration's step sequence."""
     from pdsketch_mech.envs import sample
     from pdsketch_mech.envs.task_names import resolve_task
-    for demo in EXPECTED_STEPS:
-        problem = tmp_path / f"{demo}.pddl"
-        problem.write_text(sample(resolve_task(demo), "train", None).problem_text())
+    from pdsketch_mech.planner.bilevel import prepare_task
+    for demo, expected in EXPECTED_STEPS.items():
+        problem_path = tmp_path / f"{demo}.pddl"
+        problem_path.write_text(sample(resolve_task(demo), "train", None).problem_text())
         domain = load_domain([os.path.join(MECHANISMS_DIR, f"{FRAGMENT.get(demo, demo)}.pddl")])
-        load_problem(str(problem), [domain])       # the problem's (:domain mech-basis) resolves
+        loaded, problem = load_problem(str(problem_path), [domain])
+        assert loaded is domain
+        task, _ = prepare_task(loaded, problem, use_mechanisms=True)
+        grounded = [[_objects_of(task.operators[step]) for step in macro.steps]
+                    for macro in task.operators if macro.steps]
+        assert expected in grounded, (demo, grounded)
+
+
+def _objects_of(operator) -> tuple:
+    """(name, object arguments...) of a grounded operator: its continuous values left out."""
+    return (operator.name,) + tuple(arg for arg in operator.args if not arg.startswith("#"))
 
 
 # ----------------------------------------------------------------------------- bad recordings

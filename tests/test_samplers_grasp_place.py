@@ -227,7 +227,9 @@ def test_placements_rest_on_faces_the_object_does_not_tip_from():
     with table_world(("banana", "banana/0", 0.5, 0.0)) as world:
         hold(world, "banana", rng)
         com = np.array(world.bodies["banana"].inertial[0])
-        for placement, _ in zip(sample_placements(world, "banana", "table", rng), range(4)):
+        placements = [pl for pl, _ in zip(sample_placements(world, "banana", "table", rng), range(4))]
+        assert len(placements) == 4
+        for placement in placements:
             matrix = pose_matrix(placement.pose)
             with world.saved():
                 world.set_pose("banana", placement.pose)

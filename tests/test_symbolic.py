@@ -133,8 +133,8 @@ def test_search_exhausts_a_relaxed_solvable_but_unsolvable_task():
 
 def test_gbfs_is_deterministic():
     loaded, prob = load_problem(os.path.join(DATA, "ipc", "depot", "task03.pddl"))
-    plans = [solve(loaded.domain, prob, loaded.types).plan for _ in range(2)]
-    assert plans[0] == plans[1]
+    first, second = (solve(loaded.domain, prob, loaded.types) for _ in range(2))
+    assert first.status == "solved" and first.plan and second.plan == first.plan
 
 
 def test_skeletons_are_distinct_valid_and_shortest_first():

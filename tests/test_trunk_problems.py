@@ -24,12 +24,13 @@ TRUNK = sorted(glob.glob(os.path.join(DATA, "trunk", "*.pddl")))
 
 
 def plan_and_replay(domain, problem, tmp_path, capsys, *extra):
+    """The plan document of `problem`, planned from the command line (solved) and replayed
+    from its file in a fresh world (the goal holds at the end)."""
     out = tmp_path / "plan.json"
     status = plan.main([domain, problem, "--json", str(out), "--timeout", "300", *extra])
     err = capsys.readouterr().err
     assert status == 0, err
     document = json.loads(out.read_text())
-    assert document["stats"]["rejected"] >= 0
     assert replay_command.main([problem, str(out), domain]) == 0, capsys.readouterr().err
     return document
 
@@ -55,7 +56,7 @@ def test_a_refinement_that_does_not_replay_is_rejected_and_the_search_goes_on(mo
     calls = []
     real = bilevel.execute_plan
 
-    def first_fails(task, problem, entries, recorder=None):
+    def first_fails(task, problem, entries, recorder=None, vocabulary=None):
         calls.append(len(entries))
         if len(calls) == 1:
             return ExecutionResult(False, "the goal does not hold at the end")

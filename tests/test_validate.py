@@ -32,7 +32,6 @@ def blocks():
 
 def test_valid_blocks_plan_is_accepted(blocks):
     result = validate_plan(*blocks, BLOCKS_PLAN)
-    assert isinstance(result, ValidationResult)
     assert result.ok, result.message
     assert result.message == "plan valid: 12 steps reach the goal"
     assert result.failed_step is None

@@ -2,38 +2,35 @@
 problem file, recorded in the format `learn extract` reads."""
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import time
+from typing import TYPE_CHECKING, Any, Dict, Optional
 
 from ..lang.errors import PddlError
 from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_folder, print_error, shown_path
 
+if TYPE_CHECKING:
+    from ..envs.demos.demo_file import HandCommand
+    from ..envs.demos.run import DemoResult
+    from ..envs.demos.user import UserDemo
+    from ..lang.nodes import Problem
 
-def record_user(args) -> int:
+
+def record_user(args: argparse.Namespace) -> int:
+    """`demo record FILE`: perform the user's demonstration in its problem's scene and record
+    it beside the file (or in --out); the command's exit status."""
     from ..envs.demos.demo_file import DemoFileError, default_stem
-    from ..envs.demos.user import load_problem, load_user_demo, perform_user_demo
-    from ..lang.writer import formula, write_problem
-    from ..util.progress import progress_bar
-    from ..world.recording import Recording, RecordingExists, load_recording, save_recording
-    from .demo import _folder_ok, existing_recording
+    from ..envs.demos.user import load_problem, load_user_demo
+    from .demo import existing_recording
 
-    if args.variant:
-        return fail("--variant is for the built-in demonstrations")
-    if args.split not in (None, "train"):
-        return fail("--split is for the built-in demonstrations (a demonstration of your own has its own scene)")
-    for extra in (args.render, args.strip):
-        if not _folder_ok(extra):
-            return fail(f"{extra}: its folder does not exist")
-    bar = None
-
-    def on_step(step) -> None:
-        if bar is not None:
-            bar.set_postfix_str(f"step {step.number} ({step.kind})", refresh=False)
-            bar.update(1 if step.number > 1 else 0)
-
+    refused = _refused_option(args)
+    if refused is not None:
+        return fail(refused)
+    progress = _StepProgress()
     try:
-        demo = load_user_demo(args.name, on_step)
+        demo = load_user_demo(args.name, progress)
         problem = load_problem(demo)
     except DemoFileError as exc:
         print(str(exc), file=sys.stderr)
@@ -50,19 +47,87 @@ def record_user(args) -> int:
     taken = None if args.force else existing_recording(base)
     if taken:
         return fail(taken)
+    return _perform_and_record(args, demo, problem, progress, stem, base)
+
+
+def _refused_option(args: argparse.Namespace) -> Optional[str]:
+    """Why the options do not go with a demonstration of the user's own, or None."""
+    from .demo import _folder_ok
+
+    if args.variant:
+        return "--variant is for the built-in demonstrations"
+    if args.split not in (None, "train"):
+        return "--split is for the built-in demonstrations (a demonstration of your own has its own scene)"
+    for extra in (args.render, args.strip):
+        if not _folder_ok(extra):
+            return f"{extra}: its folder does not exist"
+    return None
+
+
+class _StepProgress:
+    """Told of each step as the demonstration starts it: a terminal's progress bar over the
+    steps, made once the demonstration is loaded (a script's steps are not counted)."""
+
+    def __init__(self) -> None:
+        self.bar = None
+
+    def start(self, demo: "UserDemo", name: str) -> None:
+        """Show the bar, on a terminal, for a demonstration file's steps."""
+        from ..util.progress import progress_bar
+
+        if demo.steps and sys.stderr.isatty():
+            self.bar = progress_bar(total=demo.steps, desc=f"demo {name}", unit="step", leave=False)
+
+    def __call__(self, step: "HandCommand") -> None:
+        if self.bar is not None:
+            self.bar.set_postfix_str(f"step {step.number} ({step.kind})", refresh=False)
+            self.bar.update(1 if step.number > 1 else 0)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _perform_and_record(args: argparse.Namespace, demo: "UserDemo", problem: "Problem", progress: _StepProgress,
+                        stem: str, base: str) -> int:
+    """Perform the demonstration and save its recording to `base`.npz + .json if every step
+    was done and the goal holds at the end; the command's exit status."""
+    from ..envs.demos.demo_file import default_stem
+    from ..envs.demos.user import perform_user_demo
+    from ..lang.writer import formula
+    from ..world.recording import RecordingExists, load_recording, save_recording
 
     start = time.perf_counter()
-    bar = progress_bar(total=demo.steps, desc=f"demo {default_stem(args.name)}", unit="step", leave=False) \
-        if demo.steps and sys.stderr.isatty() else None
+    progress.start(demo, default_stem(args.name))
     try:
         result = perform_user_demo(demo, problem, args.seed)
     except PddlError as exc:   # the scene does not build (objects overlap, out of reach)
         print_error(exc)
         return 2
     finally:
-        if bar is not None:
-            bar.close()
+        progress.close()
     goal = formula(result.problem.goal)
+    header = _header(args, demo, result, stem, goal)
+    if result.error or not result.goal_reached:
+        return _report_failure(args, demo, result, header, goal)
+    try:
+        npz, js = save_recording(base, result.extra["arrays"], header, force=args.force)
+    except RecordingExists as exc:
+        return fail(str(exc))
+    size = os.path.getsize(npz) + os.path.getsize(js)
+    print(f"wrote {shown_path(npz)} + .json: {header['frames']} frames ({header['duration_s']:.1f} s simulated), "
+          f"{size / 1e6:.2f} MB; goal {goal} holds; {time.perf_counter() - start:.1f} s", file=sys.stderr)
+    if args.render or args.strip:
+        _draw(load_recording(npz), args.render, args.strip)
+    return EXIT_OK
+
+
+def _header(args: argparse.Namespace, demo: "UserDemo", result: "DemoResult", stem: str, goal: str) -> Dict[str, Any]:
+    """The recording's header: the simulation's, with what `learn extract` reads about the
+    demonstration, its scene (the problem file's text, or the perturbed problem's with --seed)
+    and how to record it again."""
+    from ..lang.writer import write_problem
+
     if args.seed is None:
         with open(demo.problem_path, encoding="utf-8") as handle:
             problem_text = handle.read()
@@ -87,26 +152,24 @@ def record_user(args) -> int:
         "demonstration_text": demo.text,
         "command": command,
     })
-    if result.error or not result.goal_reached:
-        if result.error:
-            print(result.error if ": error: " in result.error else f"error: {demo.path}: {result.error}",
-                  file=sys.stderr)
-        else:
-            print(f"{demo.path}: error: every step was done, but the goal {goal} does not hold at the end; "
-                  f"contacts: {result.facts_text()}", file=sys.stderr)
-        if args.render or args.strip:   # what happened up to there, to see why (nothing is recorded)
-            _draw(Recording(header, result.extra["arrays"]), args.render, args.strip)
-        return EXIT_UNSOLVED
-    try:
-        npz, js = save_recording(base, result.extra["arrays"], header, force=args.force)
-    except RecordingExists as exc:
-        return fail(str(exc))
-    size = os.path.getsize(npz) + os.path.getsize(js)
-    print(f"wrote {shown_path(npz)} + .json: {header['frames']} frames ({header['duration_s']:.1f} s simulated), "
-          f"{size / 1e6:.2f} MB; goal {goal} holds; {time.perf_counter() - start:.1f} s", file=sys.stderr)
-    if args.render or args.strip:
-        _draw(load_recording(npz), args.render, args.strip)
-    return EXIT_OK
+    return header
+
+
+def _report_failure(args: argparse.Namespace, demo: "UserDemo", result: "DemoResult", header: Dict[str, Any],
+                    goal: str) -> int:
+    """Say which step failed, or that the goal does not hold at the end; draw what happened up
+    to there when asked (nothing is recorded). EXIT_UNSOLVED."""
+    from ..world.recording import Recording
+
+    if result.error:
+        print(result.error if ": error: " in result.error else f"error: {demo.path}: {result.error}",
+              file=sys.stderr)
+    else:
+        print(f"{demo.path}: error: every step was done, but the goal {goal} does not hold at the end; "
+              f"contacts: {result.facts_text()}", file=sys.stderr)
+    if args.render or args.strip:   # to see why
+        _draw(Recording(header, result.extra["arrays"]), args.render, args.strip)
+    return EXIT_UNSOLVED
 
 
 def _draw(recording, gif, strip) -> None:
