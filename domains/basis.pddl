@@ -9,6 +9,9 @@
 ; outcome differs fails (or is recorded as it happened) during continuous search.
 (define (domain mech-basis)
   (:requirements :strips :typing :negative-preconditions :equality :streams)
+  ; What the planner reads of this basis (observed predicates, support, fixed, free motions,
+  ; how each operator executes): pdsketch_mech/operators/vocabulary.py, under this name.
+  (:vocabulary basis)
   (:types item - object)                  ; every physical body: objects, tools, table, furniture
   (:value-types
     grasp                                 ; gripper pose relative to the object, SE(3)

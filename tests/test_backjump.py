@@ -36,9 +36,9 @@ class _Sampler:
 def _search(monkeypatch, place_args, moved):
     """A poke, a put-down of the tool and a grasp of the box that never succeeds: the
     values each step simulated in 60 units of work."""
-    monkeypatch.setattr(refine, "execute_step", lambda *args: SimpleNamespace(ok=True))
-    monkeypatch.setattr(refine, "observed_state", lambda task, world: 0)
-    monkeypatch.setattr(refine, "contact_mask", lambda task: 0)
+    monkeypatch.setattr(refine, "execute_step", lambda *args, **kwargs: SimpleNamespace(ok=True))
+    monkeypatch.setattr(refine, "observed_state", lambda task, world, vocabulary=None: 0)
+    monkeypatch.setattr(refine, "contact_mask", lambda task, vocabulary=None: 0)
     steps = [Step("move-cont", ("tool", "box", "table"), 0), Step("place", place_args, 0),
              Step("grasp", ("box", "table"), 0)]
     bodies = {"tool": SimpleNamespace(fixed=False), "box": SimpleNamespace(fixed=False),

@@ -88,3 +88,58 @@ def test_every_shipped_fragment_is_its_files_mechanism_certifying_an_effect():
         assert not loaded.warnings, (name, loaded.warnings)
         (mechanism,) = loaded.domain.mechanisms
         assert mechanism.name == name and mechanism.certified != TRUE, name
+
+
+LIFT_OVER = """; A mechanism written for this test: its steps include a free motion of the held object
+; (the basis search leaves free motions out unless a mechanism lists them).
+(define (domain lift-over)
+  (:extends "BASIS")
+  (:requirements :mechanisms)
+  (:mechanism lift-over
+    :parameters (?x ?s ?y - item ?g - grasp ?t1 - traj ?q - conf ?t2 - traj ?p - placement ?t3 - traj)
+    :precondition (and (handempty) (support ?x ?s) (not (= ?x ?y)))
+    :certified (and (support ?x ?y) (handempty))
+    :actions ((grasp ?x ?s ?g ?t1) (move ?x ?q ?t2) (place ?x ?y ?p ?t3))))
+"""
+
+
+def test_a_new_mechanism_with_its_own_step_sequence_is_refined_and_replays_with_no_planner_code(tmp_path):
+    """The planner reads a mechanism's steps and the basis vocabulary, nothing written for
+    the mechanism: its macro (grasp, a free move of the held block, place) is refined by the
+    planner's own search and the plan replays in a fresh world."""
+    from collections import Counter
+
+    import numpy as np
+
+    from pdsketch_mech.lang.loader import load_domain, load_problem
+    from pdsketch_mech.planner.bilevel import bilevel_plan, prepare_task
+    from pdsketch_mech.planner.bindings import StepSampler
+    from pdsketch_mech.planner.execute import execute_plan, settle_start
+    from pdsketch_mech.planner.refine import Refinement
+    from pdsketch_mech.planner.serialize import plan_entries
+    from pdsketch_mech.planner.skeleton import skeleton_steps
+    from pdsketch_mech.world.build import build_world
+
+    from plan_fakes import skeleton_of
+
+    fragment = tmp_path / "lift-over.pddl"
+    fragment.write_text(LIFT_OVER.replace("BASIS", os.path.join(ROOT, "domains", "basis.pddl")))
+    domain, problem = load_problem(os.path.join(ROOT, "problems", "stack.pddl"), [load_domain([str(fragment)])])
+    task, placeholders = prepare_task(domain, problem)
+    (macro,) = [i for i, op in enumerate(task.operators) if op.label == "(lift-over a table b)"]
+    steps = skeleton_steps(task, [macro])
+    assert [(s.name, s.mechanism) for s in steps] == [("grasp", "lift-over"), ("move", "lift-over"),
+                                                      ("place", "lift-over")]
+    sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, Counter())
+    with build_world(problem) as world:
+        settle_start(world)
+        search = Refinement(skeleton_of(steps, fixed={"table"}, plan=[macro]), world.snapshot(), world, task,
+                            sampler, np.random.default_rng(0))
+        values = None
+        while values is None and not search.exhausted and search.effort < 200:
+            values = search.run(float("inf"), 3)
+    assert values is not None
+    assert execute_plan(task, problem, plan_entries(steps, values)).goal_reached
+    # and the planner, given the fragment, solves the problem (whichever skeleton it refines first)
+    with build_world(problem) as world:
+        assert bilevel_plan(domain, problem, world, timeout=60, seed=0).status == "solved"

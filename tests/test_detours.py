@@ -11,10 +11,11 @@ from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import prepare_task
-from pdsketch_mech.planner.evidence import DEAD_AFTER, Evidence
+from pdsketch_mech.planner.budget import DEFAULT_BUDGET
+from pdsketch_mech.planner.evidence import Evidence
 from pdsketch_mech.planner.schedule import lowest, score
 from pdsketch_mech.planner.skeleton import detour_steps as unexplained_detours, touch_masks
-from pdsketch_mech.planner.supply import WINDOW, SkeletonSupply
+from pdsketch_mech.planner.supply import SkeletonSupply
 
 from conftest import ROOT
 
@@ -64,15 +65,14 @@ def test_a_grasp_and_place_back_is_a_detour_unless_it_handles_a_flagged_object(h
     assert unexplained_detours(task, _plan(task, "(hook-use tool target table)"), masks, flagged=0) == 0
 
 
-def _supply(task, max_skeletons, evidence=None):
+def _supply(task, evidence=None):
     evidence = evidence or Evidence(task)
-    return SkeletonSupply(task, evidence, deadline=time.perf_counter() + 60,
-                          max_skeletons=max_skeletons), evidence
+    return SkeletonSupply(task, evidence, deadline=time.perf_counter() + 60), evidence
 
 
 def test_each_operator_in_an_unexplained_detour_halves_the_estimate(hook_slope):
     task, _, _ = hook_slope
-    supply, evidence = _supply(task, 50)
+    supply, evidence = _supply(task)
     window = supply.upcoming()
     plain = next(s for s in window if not evidence.detours(s.plan))
     assert evidence.estimate(plain) == 1.0
@@ -83,10 +83,10 @@ def test_each_operator_in_an_unexplained_detour_halves_the_estimate(hook_slope):
 
 def test_the_supply_defers_skeletons_that_repeat_a_dead_step_and_hands_them_out_last(hook_slope):
     task, _, _ = hook_slope
-    supply, evidence = _supply(task, 12)
+    supply, evidence = _supply(task)
     dead = ("grasp", ("target", "table"))
     assert dead in supply.upcoming()[0].pristine     # the first skeleton grasps the box where it lies
-    for _ in range(DEAD_AFTER):
+    for _ in range(DEFAULT_BUDGET.dead_after):
         evidence.ran_dry(dead)
     handed = []
     for _ in range(12):
@@ -95,33 +95,24 @@ def test_the_supply_defers_skeletons_that_repeat_a_dead_step_and_hands_them_out_
     # the skeleton looked at before the step died is set aside too, not handed out
     assert not any(dead in skeleton.pristine for skeleton in handed)
     assert supply.deferrals >= 1 and supply.taken == 12
-    (later,) = supply.upcoming()                     # the cap is reached: deferred ones come now
-    assert evidence.blocks(later.pristine)
+    # set aside, not dropped: they come back once the step is believed alive again
+    evidence.advance(max(evidence.revisit_at.values()))
+    assert any(dead in skeleton.pristine for skeleton in supply.upcoming())
 
 
 def test_a_skeleton_with_detours_does_not_hold_back_the_ones_behind_it(hook_slope):
     """The schedule creates the upcoming skeleton with the lowest score; those the search
     found before it stay in view and come later, in their order."""
     task, _, _ = hook_slope
-    supply, evidence = _supply(task, 50)
+    supply, evidence = _supply(task)
     window = supply.upcoming()
-    assert len(window) == WINDOW and [s.number for s in window] == list(range(1, WINDOW + 1))
-    # the two searches (with mechanisms, basis operators alone) take turns, each its own ranks
-    assert sorted(s.order for s in window) == sorted(list(range(1, 5)) * 2)
-    first = min(window, key=lambda s: (s.order, s.number))
+    window_size = DEFAULT_BUDGET.window
+    assert len(window) == window_size and [s.number for s in window] == list(range(1, window_size + 1))
+    first = window[0]
     estimates = {s.number: (1 / 8 if s is first else 1.0) for s in window}
     # as the planner scores them: all as the next rank, the search's order on ties
-    chosen = lowest([(score(1, 0, estimates[s.number]), (1, s.order, s.number), s) for s in window])
-    assert chosen is not first and chosen.order == 1   # the other search's first jumps the queue
+    chosen = lowest([(score(1, 0, estimates[s.number], DEFAULT_BUDGET.slice), (1, s.order, s.number), s)
+                     for s in window])
+    assert chosen is window[1]   # the next in the search's order jumps the queue
     supply.take(chosen)
     assert first in supply.upcoming() and supply.taken == 1
-
-
-def test_the_window_never_hands_out_more_than_the_cap_from_the_search(hook_slope):
-    task, _, _ = hook_slope
-    supply, _ = _supply(task, 3)
-    window = supply.upcoming()
-    assert len(window) == 3
-    for skeleton in (window[2], window[1], window[0]):
-        supply.take(skeleton)
-    assert supply.upcoming() == [] and supply.taken == 3

@@ -8,7 +8,10 @@ import numpy as np
 import pytest
 
 from pdsketch_mech.planner import refine
-from pdsketch_mech.planner.evidence import FLOOR, UNBLOCK_GAIN, Evidence
+from pdsketch_mech.planner.budget import DEFAULT_BUDGET
+from pdsketch_mech.planner.evidence import Evidence
+
+FLOOR, UNBLOCK_GAIN = DEFAULT_BUDGET.floor, DEFAULT_BUDGET.unblock_gain
 from pdsketch_mech.planner.refine import Refinement
 from pdsketch_mech.planner.skeleton import Step
 
@@ -126,9 +129,9 @@ def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasi
 
 def test_refinement_reports_each_simulated_outcome_under_its_steps_context(monkeypatch):
     monkeypatch.setattr(refine, "execute_step",
-                        lambda world, snapshot, name, args, values: SimpleNamespace(ok=name == "grasp", reason="slid"))
-    monkeypatch.setattr(refine, "observed_state", lambda task, world: HELD | TOOL_ON_TABLE)
-    monkeypatch.setattr(refine, "contact_mask", lambda task: 0b111)
+                        lambda world, snapshot, name, args, values, **kwargs: SimpleNamespace(ok=name == "grasp", reason="slid"))
+    monkeypatch.setattr(refine, "observed_state", lambda task, world, vocabulary=None: HELD | TOOL_ON_TABLE)
+    monkeypatch.setattr(refine, "contact_mask", lambda task, vocabulary=None: 0b111)
     evidence = _evidence()
     skeleton = _straight_on()
     sampler = SimpleNamespace(samples=lambda world, context, rng, parents: iter([{"#v": 1}]),
@@ -141,9 +144,9 @@ def test_refinement_reports_each_simulated_outcome_under_its_steps_context(monke
 
 
 def test_a_dead_grasp_that_simulates_after_a_hook_is_recorded_as_unblocked(monkeypatch):
-    monkeypatch.setattr(refine, "execute_step", lambda *args: SimpleNamespace(ok=True))
-    monkeypatch.setattr(refine, "observed_state", lambda task, world: 0)
-    monkeypatch.setattr(refine, "contact_mask", lambda task: 0)
+    monkeypatch.setattr(refine, "execute_step", lambda *args, **kwargs: SimpleNamespace(ok=True))
+    monkeypatch.setattr(refine, "observed_state", lambda task, world, vocabulary=None: 0)
+    monkeypatch.setattr(refine, "contact_mask", lambda task, vocabulary=None: 0)
     evidence = _evidence()
     for _ in range(evidence.dead_after):
         evidence.ran_dry(("grasp", ("box", "table")))
@@ -182,3 +185,16 @@ def test_the_steps_that_got_past_a_dead_step_lift_every_mechanism_that_takes_it_
     _outcomes(evidence, lever, 1, True, 1)
     assert evidence.estimate(hook) == pytest.approx(UNBLOCK_GAIN)
     assert evidence.estimate(skeleton_of([lever.steps[1]], 9)) == 1.0   # not after the push
+
+
+def test_a_mechanism_whose_promise_keeps_failing_weighs_on_every_skeleton_that_uses_it():
+    """Laplace's rule over the mechanism's outcomes in other skeletons, whatever grounding:
+    a user's trick whose certified facts failed 40 times never ranks with an unknown plan."""
+    evidence = _evidence()
+    assert evidence.log_kept("hook-use") == 0.0                     # nothing known: the uninformed 1/2
+    evidence._promises["hook-use"] = [0, 40]
+    assert math.exp(evidence.log_kept("hook-use")) == pytest.approx(2 / 42)
+    evidence._promises_by_owner[("hook-use", 7)] = [0, 40]
+    assert evidence.log_kept("hook-use", owner=7) == 0.0            # its own failures are in its effort
+    evidence._promises["hook-use"] = [30, 20]
+    assert evidence.log_kept("hook-use") == 0.0                     # it works more often than not: no weight

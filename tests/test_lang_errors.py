@@ -44,7 +44,7 @@ CASES = [
     ("syntax: misspelt section keyword", broken_domain("(:predicates", "(:predicate"),
      "4:4: error: unexpected ':predicate' (did you mean ':predicates'?); expected one of ':action', "
      "':constants', ':extends', ':mechanism', ':predicates', ':requirements', ':stream', ':types', "
-     "':value-types'"),
+     "':value-types', ':vocabulary'"),
     ("syntax: misspelt action property", broken_domain(":effect", ":efect"),
      "8:5: error: unexpected ':efect' (did you mean ':effect'?); expected one of ')', ':effect', "
      "':parameters', ':precondition'"),
@@ -229,3 +229,16 @@ def test_clean_files_exit_zero(write_files, capsys):
     out = capsys.readouterr().out.splitlines()
     assert out == [f"{domain}: ok: domain 'd': 1 type, 2 predicates, 1 action, 0 streams, 0 mechanisms",
                    f"{problem}: ok: problem 'p' for domain 'd': 2 objects, 2 initial facts"]
+
+
+def test_an_unknown_or_conflicting_vocabulary_is_one_located_line(write_files, capsys):
+    unknown = '(define (domain cranes)\n  (:extends "basis")\n  (:requirements :streams)\n)\n'
+    plain = ('(define (domain cranes)\n  (:vocabulary cranes)\n  (:requirements :streams)\n  (:value-types g)\n'
+             '  (:predicates (ok ?x - g))\n  (:stream s :outputs (?x - g) :certified (ok ?x) :sampler "grasp")\n)\n')
+    fragment, alone = write_files(**{"f.pddl": unknown.replace("(:requirements :streams)", "(:vocabulary cranes)"),
+                                     "a.pddl": plain})
+    status, err = run_check(capsys, fragment)
+    assert (status, err) == (2, f"{fragment}:3:16: error: vocabulary 'cranes' differs from 'basis', the vocabulary "
+                                 "of domain 'mech-basis' that this domain extends")
+    status, err = run_check(capsys, alone)
+    assert (status, err) == (2, f"{alone}:2:16: error: unknown vocabulary 'cranes'; known: basis")

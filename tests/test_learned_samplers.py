@@ -22,10 +22,14 @@ from pdsketch_mech.samplers.learned.checkpoint import CheckpointError, load, loa
 from pdsketch_mech.samplers.learned.encoding import VALUE_LAYOUT
 from pdsketch_mech.samplers.learned.forward import NumpyClassifiers
 from pdsketch_mech.samplers.learned.pointnet import ball_query, farthest_points
-from pdsketch_mech.samplers.learned.ranked import EXPLORE, RankedSampler
+from pdsketch_mech.samplers.budget import SamplerBudget
+from pdsketch_mech.samplers.learned.ranked import RankedSampler
 from pdsketch_mech.samplers.learned.trust import Trust
-from pdsketch_mech.samplers.learned.walk import GAP, TOP_UPS, walk
+from pdsketch_mech.samplers.learned.walk import walk
 from pdsketch_mech.samplers.learned.specs import ParamSpec
+
+BUDGET = SamplerBudget()   # the defaults the planner ranks with
+EXPLORE, GAP, TOP_UPS = BUDGET.learned_explore, BUDGET.learned_top_up_gap, BUDGET.learned_top_ups
 
 from learned_data import TINY, AllVerify, Numbers, synthetic_episodes
 
@@ -284,6 +288,10 @@ def test_walk_tops_up_a_batch_whose_best_left_is_hopeless():
     close = np.array([0.0, -0.5 * GAP])
     assert [i for i, _ in walk(close, np.random.default_rng(0), lambda: 0.0, top_up)] == [0, 1]
     assert len(calls) == TOP_UPS              # the rest was not hopeless: no top-up asked
+    fresh[:] = [np.array([-1.0]), np.array([-1.0])]
+    once = SamplerBudget(learned_top_ups=1)
+    assert [i for i, _ in walk(scores, np.random.default_rng(0), lambda: 0.0, top_up, once)] == [0, 3, 1, 2]
+    assert len(calls) == TOP_UPS + 1          # the budget given is the one spent
 
 
 def test_trust_keeps_the_learned_order_unless_random_picks_do_better():
@@ -315,23 +323,23 @@ class ByValue:
     def score(self, world, request, variable, proposals):
         return np.array(proposals, dtype=float)
 
-    def extrapolates(self, world, request, variable):
+    def extrapolates(self, world, request, variable, budget=None):
         return None   # no fixed object out of place
 
 
-def best_first(scores, rng, explore, top_up=None):
+def best_first(scores, rng, explore, top_up=None, budget=None):
     """A walk that never explores nor tops up: the batch strictly best first."""
     return ((int(i), False) for i in np.argsort(-scores, kind="stable"))
 
 
 def test_ranked_sampler_verifies_best_first_and_drops_nothing(monkeypatch):
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
-    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.REFILLS", 0)  # Numbers proposes the same each call
+    no_refills = SamplerBudget(learned_refills=0)   # Numbers proposes the same each call
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
-    proposals = RankedSampler(Numbers(10), ByValue(), "?t", pool=0)   # a push: rank proposals
+    proposals = RankedSampler(Numbers(10), ByValue(), "?t", pool=0, budget=no_refills)   # a push: rank proposals
     assert list(proposals.draw(None, request, np.random.default_rng(0), budget=10)) == [8, 6, 4, 2, 0]
     assert proposals.examined == 10
-    pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3)      # a grasp: rank verified values
+    pooled = RankedSampler(Numbers(10), ByValue(), "?g", pool=3, budget=no_refills)  # a grasp: rank values
     assert list(pooled.draw(None, request, np.random.default_rng(0), budget=10)) == [4, 2, 0, 8, 6]
     assert pooled.examined == 10
 
@@ -355,7 +363,7 @@ def test_a_batch_calls_a_proposer_that_ran_dry_again(monkeypatch):
     so that the classifier has a batch to choose from; a call that finds none ends it. The
     visit verifies no more than the first call found."""
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
-    from pdsketch_mech.samplers.learned.ranked import BATCH, REFILLS
+    BATCH, REFILLS = BUDGET.learned_batch, BUDGET.learned_refills
     request = SampleRequest("s", (), (), StepContext("grasp", ()))
     proposer = TwoPerCall(calls=100)
     ranked = RankedSampler(proposer, ByValue(), "?c", pool=0)
@@ -384,20 +392,21 @@ class Peaked(AllVerify):
         return iter([100 - k] + [-100 - 16 * k - j for j in range(15)])
 
 
-def test_a_ranked_sampler_tops_up_a_batch_rather_than_verify_its_hopeless_rest(monkeypatch):
+def test_a_ranked_sampler_tops_up_a_batch_rather_than_verify_its_hopeless_rest():
     """Once the batch's best is taken, the next verified is the best of a fresh batch, not
     the old batch's hopeless second; after TOP_UPS fresh batches the old rest comes in order.
     A visit that will verify no more draws no fresh batch (proposing moves the rng)."""
-    monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.EXPLORE", 0.0)
+    never_explore = SamplerBudget(learned_explore=0.0)
     assert 200 > GAP
     request = SampleRequest("s", (), (), StepContext("place", ()))
     proposer = Peaked()
-    ranked = RankedSampler(proposer, ByValue(), "?p", pool=0)
+    ranked = RankedSampler(proposer, ByValue(), "?p", pool=0, budget=never_explore)
     values = list(itertools.islice(ranked.draw(None, request, np.random.default_rng(0), budget=16), TOP_UPS + 2))
     assert values == [100.0 - k for k in range(TOP_UPS + 1)] + [-100.0]
     assert proposer.made == TOP_UPS + 1
     one = Peaked()
-    assert list(RankedSampler(one, ByValue(), "?p", pool=0).draw(None, request, np.random.default_rng(0), budget=1)) == [100.0]
+    once = RankedSampler(one, ByValue(), "?p", pool=0, budget=never_explore)
+    assert list(once.draw(None, request, np.random.default_rng(0), budget=1)) == [100.0]
     assert one.made == 1
 
 
@@ -450,7 +459,8 @@ def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
     generic sampler, unranked and counted; within them, or a movable object as far (a box
     out of reach elsewhere), the classifier ranks."""
     from pdsketch_mech.planner.bindings import StepSampler
-    from pdsketch_mech.samplers.learned.ranked import EXTRAPOLATION_Z, LearnedMechanism
+    from pdsketch_mech.samplers.learned.ranked import LearnedMechanism
+    EXTRAPOLATION_Z = BUDGET.learned_extrapolation_z
     monkeypatch.setattr("pdsketch_mech.samplers.learned.ranked.walk", best_first)
     learned = LearnedMechanism.__new__(LearnedMechanism)
     learned.model = type("Model", (), {"classifier": lambda self, variable: _Spread()})()
@@ -462,6 +472,8 @@ def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
     assert not learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, "?p")
     assert learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(0.5, far)), request, "?p") == "slope"
     assert learned.extrapolates(_Where(stick=(far, far), slope=(0.5, 0.5)), request, "?p") is None
+    stricter = SamplerBudget(learned_extrapolation_z=EXTRAPOLATION_Z - 2)   # the budget given decides
+    assert learned.extrapolates(_Where(stick=(0.5, 0.5), slope=(near, 0.5)), request, "?p", stricter) == "slope"
     ranked = RankedSampler(AllVerify(8), learned, "?p", pool=0)
     steps = StepSampler({}, {}, None)
     steps._ranked[("s", "m", "?p")] = ranked
@@ -478,12 +490,14 @@ def test_a_classifier_is_not_asked_where_its_objects_never_were(monkeypatch):
 
 def test_classifiers_of_proposals_rank_proposals_and_those_of_values_a_pool():
     from pdsketch_mech.samplers.learned.model import MechanismClassifiers
-    from pdsketch_mech.samplers.learned.ranked import POOL, LearnedMechanism
+    from pdsketch_mech.samplers.learned.ranked import LearnedMechanism
+    POOL = BUDGET.learned_pool
     specs = [ParamSpec("?g", "grasp", (), 2), ParamSpec("?p", "placement", (), 2, outputs=1),
              ParamSpec("?t", "push", (), 2, outputs=1)]
     learned = LearnedMechanism(as_numpy(MechanismClassifiers(specs, TINY)), {})
     assert RankedSampler(Numbers(4), learned, "?g").pool == 0      # schema /2: raw proposals, best first
     assert RankedSampler(Numbers(4), learned, "?p").pool == POOL   # schema /1: a pool of verified values
+    assert RankedSampler(Numbers(4), learned, "?p", budget=SamplerBudget(learned_pool=3)).pool == 3
     assert RankedSampler(Numbers(4), learned, "?t").pool == 0      # a push's distance either way
 
 

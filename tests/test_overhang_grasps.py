@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from pdsketch_mech.lang.scene import SceneObject
-from pdsketch_mech.samplers.grasp import POINTS_PER_ATTEMPT, propose_grasps, verify_grasp
+from pdsketch_mech.samplers.budget import SamplerBudget
+from pdsketch_mech.samplers.grasp import propose_grasps, verify_grasp
 from pdsketch_mech.world.asset_index import assets_root, resolve_asset
 from pdsketch_mech.world.world import World
 
@@ -33,7 +34,7 @@ def overhanging(asset, overhang, y=0.0, table_x=0.75):
 def proposals_until_valid(world, seed, limit=50):
     rng = np.random.default_rng(seed)
     for count, grasp in enumerate(itertools.islice(
-            propose_grasps(world, "thing", rng, POINTS_PER_ATTEMPT * limit), limit), 1):
+            propose_grasps(world, "thing", rng, SamplerBudget().grasp_points_per_proposal * limit), limit), 1):
         if verify_grasp(world, grasp, rng):
             return count
     return None
@@ -93,7 +94,8 @@ def test_the_fingers_tested_first_keep_exactly_the_frames_the_full_tests_keep(mo
     with overhanging(asset, overhang) as world:
         mesh = body_mesh(world, "thing")
         placed = pose_matrix(world.pose("thing"))
-        p1s, p2s = grasp.antipodal_pool(mesh).pairs(np.arange(0, grasp.POOL_POINTS, 4))
+        pool = grasp.antipodal_pool(mesh)
+        p1s, p2s = pool.pairs(np.arange(0, pool.size, 4))
 
         def frames():
             heights = SupportHeights(world, "thing", world.aabb("thing")[0][2], grasp._gripper_radius(grasp.MAX_OPENING))

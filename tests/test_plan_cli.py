@@ -152,6 +152,21 @@ def test_a_dead_step_counts_only_the_proposals_where_its_objects_start():
     assert failure_hint({}, mechanisms=True) is None
 
 
+def test_the_hint_says_when_a_mechanism_whose_promise_keeps_failing_got_in_the_way():
+    why = "its :certified facts do not hold after its steps"
+    failures = {("shelf-pull stick block table", why): 48, ("grasp block table", "no feasible parameters"): 9}
+    failed = failed_steps(failures, {})
+    crowded = {"shelf-pull": {"skeletons": 41, "of": 44, "certified_failed": 48}}
+    hint = failure_hint(failed, mechanisms=True, by_mechanism=crowded)
+    assert hint.startswith("mechanism 'shelf-pull' got in the way: its certified facts failed 48 times, "
+                           "in 41 of 44 skeletons; plan without it")
+    # a mechanism whose promise failed less often than a step failed otherwise is not named
+    quiet = {"shelf-pull": {"skeletons": 2, "of": 44, "certified_failed": 3}}
+    assert "got in the way" not in failure_hint(failed_steps({("shelf-pull stick block table", why): 3,
+                                                               ("grasp block table", "no straight lift"): 30}, {}),
+                                                  mechanisms=True, by_mechanism=quiet)
+
+
 def test_plan_render_takes_the_camera_options(capsys):
     with pytest.raises(SystemExit) as exited:
         plan.main([BASIS, os.path.join(ROOT, "problems", "pick.pddl"), "--render", "x.gif", "--pitch", "nan"])

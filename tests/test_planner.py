@@ -101,7 +101,7 @@ def test_impossible_goal_is_unsolved_within_the_timeout(write_files):
     domain, problem = load_problem(problem_path("hook-use"), [load_domain([BASIS])])
     start = time.perf_counter()
     with build_world(problem) as world:
-        result = bilevel_plan(domain, problem, world, timeout=8, seed=0, max_skeletons=6)
+        result = bilevel_plan(domain, problem, world, timeout=8, seed=0)
     assert result.status == "unsolved"
     assert time.perf_counter() - start < 8 + 3
 
@@ -182,3 +182,27 @@ def test_a_problem_whose_first_skeletons_are_all_unrefinable_is_still_solved():
     unrefinable = [e for e in log if "(place a far" in e["skeleton"]]
     assert len(unrefinable) == 3 and all(e["effort"] > 0 for e in unrefinable)
     assert log[-1]["rank"] == 4
+
+
+def test_a_first_step_that_looks_dead_for_its_first_visits_is_revisited_and_the_problem_solved(monkeypatch):
+    """Completeness through the dead-step path (docs/planner.md): the block's grasps find no
+    value on their first four visits, so the grasp is believed dead where the block lies and
+    every skeleton that begins with it is set aside. The belief is revisited once the work
+    has doubled; the grasp then works and the plan is found."""
+    from pdsketch_mech.planner.bindings import StepSampler
+    real = StepSampler.samples
+    dry = {"visits": 0}
+
+    def unlucky_first_visits(self, world, step, rng, parents=None, per_value=1):
+        if step.operator == "grasp" and dry["visits"] < 4:
+            dry["visits"] += 1
+            return iter(())
+        return real(self, world, step, rng, parents, per_value)
+    monkeypatch.setattr(StepSampler, "samples", unlucky_first_visits)
+    domain, problem = load_problem(os.path.join(ROOT, "problems", "pick.pddl"), [load_domain([BASIS])])
+    with build_world(problem) as world:
+        result = bilevel_plan(domain, problem, world, timeout=120, seed=0)
+    assert result.status == "solved" and [s.name for s in result.steps][-1] == "grasp"
+    stats = result.stats
+    assert stats["revived"] >= 1 and stats["returned"] >= 1 and stats["pruned"] >= 1   # set aside, then back
+    assert not stats["dead_steps"]                                                      # cleared for good

@@ -9,7 +9,10 @@ from pdsketch_mech.envs import TASKS, sample
 from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.planner.bilevel import bilevel_plan, prepare_task
-from pdsketch_mech.planner.evidence import DEAD_AFTER, Evidence
+from pdsketch_mech.planner.budget import DEFAULT_BUDGET
+from pdsketch_mech.planner.evidence import Evidence
+
+DEAD_AFTER = DEFAULT_BUDGET.dead_after
 from pdsketch_mech.planner.skeleton import Step, fixed_objects, pristine_keys
 from pdsketch_mech.planner.supply import skeleton_order
 from pdsketch_mech.symbolic.skeletons import iter_skeletons
@@ -111,11 +114,12 @@ def test_the_planner_finds_the_unreachable_box_dead_and_defers_what_grasps_it_fi
     stats = result.stats
     assert "(grasp target table)" in stats["dead_steps"] and stats["deferred"] > 20
     created = [entry["skeleton"] for entry in stats["skeleton_log"]]
-    assert any(s.startswith("(hook-use tool target table) (place target table") for s in created[:30])
-    # no skeleton created after the grasp died grasps the untouched box first
+    assert any(s.startswith("(hook-use tool target table) (place target table") for s in created[:40])   # the priced order shares the ranks
+    # after the grasp died, a skeleton that grasps the untouched box first comes only to
+    # revisit the belief, one per revisit
     died = stats["dead_steps"]["(grasp target table)"]
     late = [e["skeleton"] for e in stats["skeleton_log"] if e["created_s"] > died]
-    assert late and not any(s.startswith("(grasp target table") for s in late)
+    assert late and sum(s.startswith("(grasp target table") for s in late) <= stats["revived"]
 
 
 class _DryFirst:
@@ -141,7 +145,7 @@ def _refinement(sampler, memo):
     import numpy as np
 
     from pdsketch_mech.planner.refine import Refinement
-    world = SimpleNamespace(restore=lambda snapshot: None)
+    world = SimpleNamespace(restore=lambda snapshot: None, bodies={})
     steps = [_step("grasp", "spoon", "table", "#g1")]
     return Refinement(skeleton_of(steps, fixed={"table"}), start=None, world=world, task=SimpleNamespace(fact_ids={}),
                       sampler=sampler, rng=np.random.default_rng(0), evidence=memo)

@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 from pdsketch_mech.planner.bindings import StepSampler
-from pdsketch_mech.planner.evidence import FLOOR
+from pdsketch_mech.planner.budget import DEFAULT_BUDGET
+
+FLOOR = DEFAULT_BUDGET.floor
 from pdsketch_mech.planner.promise import GroundingPromise
 from pdsketch_mech.samplers.interface import SampleRequest, StepContext
 
@@ -85,7 +87,7 @@ class ByValue:
     def ranks_proposals(self, variable):
         return True
 
-    def extrapolates(self, world, request, variable):
+    def extrapolates(self, world, request, variable, budget=None):
         return None   # no fixed object out of place
 
     def score(self, world, request, variable, proposals):

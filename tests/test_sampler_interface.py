@@ -19,6 +19,7 @@ from pdsketch_mech.planner.execute import run_step
 from pdsketch_mech.planner.refine import Refinement
 from pdsketch_mech.planner.skeleton import skeleton_steps
 
+from pdsketch_mech.samplers.budget import SamplerBudget
 from pdsketch_mech.samplers.contact import ContactSampler
 from pdsketch_mech.samplers.grasp import sample_grasps
 from pdsketch_mech.samplers.interface import Sampler, SampleRequest
@@ -71,6 +72,26 @@ def test_an_unknown_sampler_name_is_refused_with_the_known_ones():
         bindings.StepSampler(streams, {}, Counter())
 
 
+def test_the_step_sampler_gives_its_budget_to_every_sampler_it_builds():
+    """One SamplerBudget reaches the generic samplers (their visit budgets and the rest)."""
+    domain = load_domain([HOOK_USE]).domain
+    budget = SamplerBudget(grasp_proposals=7, contact_proposals=5, proposals=9, free_motion_proposals=3)
+    samplers = bindings.StepSampler({s.name: s for s in domain.streams}, {}, Counter(), budget=budget).samplers
+    by_name = {s.sampler or s.name: samplers[s.name] for s in domain.streams}
+    assert (by_name["grasp"].budget, by_name["contact"].budget, by_name["placement"].budget) == (7, 5, 9)
+    assert all(sampler.sampler_budget is budget for sampler in samplers.values())
+    assert bindings.StepSampler({s.name: s for s in domain.streams}, {}, Counter()).samplers["sample-grasp"].budget == \
+        SamplerBudget().grasp_proposals
+
+
+def test_a_sampler_budget_refuses_negative_counts_and_chances_above_one():
+    for wrong in ({"grasp_batch": -1}, {"motion_checks": -8000}, {"learned_explore": 1.5}):
+        with pytest.raises(ValueError, match="SamplerBudget"):
+            SamplerBudget(**wrong)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        SamplerBudget().proposals = 1   # one declared object, never changed in place
+
+
 class Recording(Sampler):
     """Wraps a generic sampler and keeps every request it is given."""
 
@@ -90,7 +111,7 @@ def test_a_mechanism_step_is_told_its_mechanism_index_poses_and_parents(monkeypa
     objects, the step's index, where the tool and box are, and the grasp step 1 drew."""
     requests: list = []
     registry = dict(bindings.GENERIC_SAMPLERS)
-    registry["contact"] = lambda: Recording(ContactSampler(), requests)
+    registry["contact"] = lambda budget: Recording(ContactSampler(budget), requests)
     monkeypatch.setattr(bindings, "GENERIC_SAMPLERS", registry)
     domain, problem = load_problem(HOOK_PROBLEM, [load_domain([HOOK_USE])])
     task, placeholders = prepare_task(domain, problem)

@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 
 from pdsketch_mech.envs.tasks import LEDGE_HEIGHT
 from pdsketch_mech.lang.scene import SceneObject
+from pdsketch_mech.samplers.budget import SamplerBudget
 from pdsketch_mech.samplers.geometry import body_mesh, body_parts, pose_matrix, world_mesh
 from pdsketch_mech.samplers.grasp import antipodal_pairs, sample_grasps, world_grasp_pose
 from pdsketch_mech.samplers.placement import RISE, fixed_holders, rest_on_relief, sample_placements
@@ -137,7 +138,7 @@ def test_grasp_proposals_draw_antipodal_pairs_from_one_pool_per_shape():
     import pdsketch_mech.samplers.grasp as grasp
     with table_world(("block", "block/0", 0.5, 0.0)) as world:
         mesh = body_mesh(world, "block")
-        grasp.antipodal_pool.cache_clear()
+        grasp._antipodal_pool.cache_clear()
         first = list(grasp.propose_grasps(world, "block", np.random.default_rng(0), 120))
         world.set_pose("block", ((0.45, 0.1, world.pose("block")[0][2]), world.pose("block")[1]))
         second = list(grasp.propose_grasps(world, "block", np.random.default_rng(1), 120))
@@ -149,8 +150,9 @@ def test_grasp_proposals_draw_antipodal_pairs_from_one_pool_per_shape():
         drawn = np.flatnonzero(pool.known)
         pool.pairs(drawn)
         assert pool.rays == rays  # known points cast no ray again
-        eager = list(grasp.antipodal_pairs(mesh, grasp.POOL_POINTS, np.random.default_rng(0)))
-        p1s, p2s = pool.pairs(np.arange(grasp.POOL_POINTS))
+        assert pool.size == SamplerBudget().grasp_pool_points
+        eager = list(grasp.antipodal_pairs(mesh, pool.size, np.random.default_rng(0)))
+        p1s, p2s = pool.pairs(np.arange(pool.size))
         expected = [pair for pair in eager if pair is not None]
         assert len(p1s) == len(expected) > 0
         assert np.array_equal(p1s, [pair[0] for pair in expected]) and np.array_equal(p2s, [pair[2] for pair in expected])

@@ -5,6 +5,9 @@ from __future__ import annotations
 import math
 
 from pdsketch_mech.planner import schedule
+from pdsketch_mech.planner.budget import DEFAULT_BUDGET
+
+SLICE = DEFAULT_BUDGET.slice
 
 
 def simulate(until_rank: int, estimates=lambda rank: 1.0):
@@ -14,31 +17,31 @@ def simulate(until_rank: int, estimates=lambda rank: 1.0):
     total = 0
     while True:
         upcoming = len(efforts) + 1
-        candidates = [(schedule.score(r, e, estimates(r)), (r,), r) for r, e in efforts.items()]
-        candidates.append((schedule.score(upcoming, 0, estimates(upcoming)), (upcoming,), upcoming))
+        candidates = [(schedule.score(r, e, estimates(r), SLICE), (r,), r) for r, e in efforts.items()]
+        candidates.append((schedule.score(upcoming, 0, estimates(upcoming), SLICE), (upcoming,), upcoming))
         turn = schedule.lowest(candidates)
         if turn == upcoming:
             efforts[turn] = 0
             if turn == until_rank:
                 return total, efforts.get(1, 0)
             continue
-        efforts[turn] += schedule.SLICE
-        total += schedule.SLICE
+        efforts[turn] += SLICE
+        total += SLICE
 
 
 def shares(estimates, units=4000):
     """Effort per rank after `units` of work among skeletons that never succeed."""
     efforts = {rank: 0 for rank in estimates}
-    for _ in range(units // schedule.SLICE):
-        turn = schedule.lowest([(schedule.score(r, e, estimates[r]), (r,), r) for r, e in efforts.items()])
-        efforts[turn] += schedule.SLICE
+    for _ in range(units // SLICE):
+        turn = schedule.lowest([(schedule.score(r, e, estimates[r], SLICE), (r,), r) for r, e in efforts.items()])
+        efforts[turn] += SLICE
     return efforts
 
 
 def test_the_hundred_and_seventh_skeleton_comes_within_a_bounded_amount_of_work():
     total, first = simulate(107)
     # about SLICE * N ln N units (module docstring)
-    assert total <= 1.3 * schedule.SLICE * 107 * math.log(107) + 107 * schedule.SLICE
+    assert total <= 1.3 * SLICE * 107 * math.log(107) + 107 * SLICE
     # ... while the first skeleton has had about 1 / ln N of the work
     assert first >= 0.6 * total / math.log(107)
 
@@ -46,13 +49,13 @@ def test_the_hundred_and_seventh_skeleton_comes_within_a_bounded_amount_of_work(
 def test_a_skeleton_at_the_floor_still_comes_and_gets_work():
     """Completeness: a low estimate delays a skeleton by a bounded factor, never for ever."""
     total, _ = simulate(30, estimates=lambda rank: 1 / 32 if rank == 30 else 1.0)
-    assert total < 32 * 1.3 * schedule.SLICE * 30 * math.log(30)
+    assert total < 32 * 1.3 * SLICE * 30 * math.log(30)
     efforts = shares({rank: (1 / 32 if rank == 2 else 1.0) for rank in range(1, 6)}, units=20000)
     assert efforts[2] > 0
 
 
 def test_new_skeletons_wait_for_their_turn():
-    assert schedule.lowest([(schedule.score(1, 0), (1,), "first"), (schedule.score(2, 0), (2,), "new")]) == "first"
+    assert schedule.lowest([(schedule.score(1, 0, 1.0, SLICE), (1,), "first"), (schedule.score(2, 0, 1.0, SLICE), (2,), "new")]) == "first"
     assert schedule.lowest([]) is None
     assert schedule.lowest([(1.0, (3,), "later"), (1.0, (2,), "earlier")]) == "earlier"   # ties: the earlier rank
 

@@ -1,6 +1,7 @@
-"""Where skeletons come from (planner/supply.py): with mechanisms loaded, a search over the
-basis operators alone takes turns with the full one, so that a problem that needs no
-mechanism meets its plain plan among the first skeletons."""
+"""Where skeletons come from (planner/supply.py): the unit order (a mechanism is one action)
+takes turns with the priced one (a mechanism costs its basis steps), so that a problem that
+needs no mechanism meets its plain plan among the first; skeletons set aside behind a dead
+step come back when the step is revisited."""
 import glob
 import os
 import time
@@ -18,46 +19,55 @@ TOWER = os.path.join(ROOT, "tests", "data", "tower-of-three.pddl")
 
 
 def _labels(task, skeletons, n):
-    out = []
-    for _, plan in zip(range(n), skeletons):
-        out.append(" ".join(task.operators[o].label for o in plan))
-    return out
+    return [" ".join(task.operators[o].label for o in plan) for _, plan in zip(range(n), skeletons)]
 
 
-def test_the_plain_plan_of_a_tower_comes_early_with_every_mechanism_loaded():
-    domain, problem = load_problem(TOWER, [load_domain([BASIS] + EVERY, samplers_required=False)])
+def _tower(mechanisms):
+    domain, problem = load_problem(TOWER, [load_domain([BASIS] + mechanisms, samplers_required=False)])
     task, _ = prepare_task(domain, problem)
-    plain = "(grasp b table"
-    full_search = _labels(task, skeleton_order(task), 40)
-    assert not any(label.startswith(plain) and "(com" not in label and "(slope" not in label
-                   for label in full_search[:20])          # the full search alone: mechanisms first
-    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60, 50)
+    return task
+
+
+def test_the_plain_plan_of_a_tower_comes_first_in_the_priced_order_with_every_mechanism_loaded():
+    plain = _labels(_tower([]), skeleton_order(_tower([]), priced=True), 1)[0]
+    task = _tower(EVERY)
+    assert _labels(task, skeleton_order(task, priced=True), 1) == [plain]
+    assert plain not in _labels(task, skeleton_order(task), 500)   # the unit order alone: mechanisms first
+    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60)
     window = supply.upcoming()
-    basis_only = [s for s in window if not any(step.mechanism for step in s.steps)]
-    assert basis_only and basis_only[0].order <= 2
+    labels = [s.label(task) for s in window]
+    assert "(com" in labels[0] and labels[1] == plain     # the two orders take turns, the unit one first
     assert len({tuple(s.plan) for s in window}) == len(window)   # none twice
 
 
+def test_in_the_priced_order_a_mechanism_costs_its_steps():
+    task = _tower(EVERY)
+    macros = [op for op in task.operators if op.steps]
+    assert macros and all(op.cost == len(op.steps) > 1 for op in macros)
+    costs = [sum(task.operators[o].cost for o in plan)
+             for _, plan in zip(range(30), skeleton_order(task, priced=True))]
+    assert costs[0] == min(costs) == 4
+
+
 def test_without_mechanisms_the_supply_is_the_search_alone():
-    domain, problem = load_problem(TOWER, [load_domain([BASIS])])
-    task, _ = prepare_task(domain, problem)
-    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60, 20)
-    assert [s.plan for s in supply.upcoming()] == [p for _, p in zip(range(8), skeleton_order(task))]
+    task = _tower([])
+    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60)
+    assert [s.plan for s in supply.upcoming()] == [p for _, p in zip(range(8), skeleton_order(task, priced=True))]
 
 
-def test_the_basis_only_search_stops_once_a_step_is_dead_where_the_scene_began():
-    """Then the problem needs the scene changed first: the full search goes on alone, and
-    what the basis-only search found but was not handed out is forgotten (so the full search
-    can hand it out in its own order)."""
-    domain, problem = load_problem(TOWER, [load_domain([BASIS] + EVERY, samplers_required=False)])
-    task, _ = prepare_task(domain, problem)
+def test_skeletons_behind_a_dead_step_are_deferred_and_come_back_when_it_is_revisited():
+    task = _tower([])
     evidence = Evidence(task)
-    supply = SkeletonSupply(task, evidence, time.perf_counter() + 60, 50)
-    window = supply.upcoming()
-    assert any(s.source for s in window)
+    supply = SkeletonSupply(task, evidence, time.perf_counter() + 60)
+    first = supply.upcoming()[0]
+    key = first.pristine[0]
     for _ in range(evidence.dead_after):
-        evidence.ran_dry(("grasp", ("nothing", "table")))
-    window = supply.upcoming()
-    assert window and not any(s.source for s in window)
-    supply.take(window[0])
-    assert not any(s.source for s in supply.upcoming())
+        evidence.ran_dry(key)
+    assert key in evidence.dead
+    assert first not in supply.upcoming() and first in supply._deferred
+    assert not evidence.advance(evidence.revisit_at[key] - 1)   # not yet due
+    assert evidence.advance(evidence.revisit_at[key])           # the belief is revisited
+    assert key not in evidence.dead and first in supply.upcoming()   # one comes back to try the step
+    assert supply.returned == 1
+    evidence.found(key)                                             # and finds it feasible after all
+    assert evidence.cleared == 1 and supply.upcoming() and supply.returned >= 1

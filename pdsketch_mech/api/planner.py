@@ -128,7 +128,8 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
     result.stats["learned_samplers"] = sorted(learned) if learned else "off"
     if result.status != "solved":
         from ..planner.failure_hint import failure_hint
-        hint = failure_hint(result.stats.get("failed_steps", {}), not basis_only and bool(loaded.domain.mechanisms))
+        hint = failure_hint(result.stats.get("failed_steps", {}), not basis_only and bool(loaded.domain.mechanisms),
+                            result.stats.get("mechanisms"))
         if hint:
             result.stats["hint"] = hint
     if scene_warnings:

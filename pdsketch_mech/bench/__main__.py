@@ -19,7 +19,7 @@ from ..commands.common import (
 from ..lang.errors import PddlError
 from ..symbolic.solve import SEARCHES
 from ..util.files import write_json, write_text
-from . import ipc, paper_commands
+from . import contract, ipc, paper_commands
 from .plans import check_domain
 from .tables import render_markdown, render_text
 
@@ -352,6 +352,7 @@ def build_parser() -> argparse.ArgumentParser:
                               "its checkpoint; a comparison written before is replaced)")
     learned.set_defaults(func=run_samplers_command)
     paper_commands.add_parsers(commands)
+    contract.add_parser(commands)
     return parser
 
 

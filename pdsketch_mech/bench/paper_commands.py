@@ -24,7 +24,7 @@ from . import compose, mechanisms
 from .ipc import BenchError
 from .plans import check_domain
 from .tables import render_markdown, render_text
-from .trials import ALL_MECHANISMS, Job, METHODS, PAPER_METHODS, TRIALS_FILE, Trial, TrialStore, TrialsError, run_all
+from .trials import ALL_MECHANISMS, Job, METHODS, PAPER_METHODS, Trial, TrialsError, open_store, run_all
 
 MECHANISMS_DIR = os.path.join("domains", "mechanisms")
 BASIS = os.path.join("domains", "basis.pddl")
@@ -86,10 +86,8 @@ def _check(args: argparse.Namespace, fragments: Sequence[str]) -> None:
 def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
     config = {"kind": kind, "split": args.split, "seed": args.seed, "planner_seed_offset": args.planner_seed_offset,
               "timeout_s": args.timeout, "mechanisms_dir": args.mechanisms_dir}
-    if args.table_only and not os.path.exists(os.path.join(args.out, TRIALS_FILE)):
-        raise BenchError(f"--table-only: {args.out} holds no trials")
     try:
-        store = TrialStore(args.out, config, args.resume or args.table_only)
+        store = open_store(args.out, config, args.resume, args.table_only)
     except TrialsError as error:
         raise BenchError(str(error)) from None
     todo = store.pending(jobs)

@@ -85,17 +85,17 @@ def enumeration_rank(patterns: Sequence[str], domain: str, problem: str, basis_o
                      seconds: float) -> Tuple[Dict[str, Optional[int]], int]:
     """Where each pattern first comes in the planner's skeleton order, by enumerating up to
     `limit` skeletons (or `seconds`) symbolically, as the planner does (prepare_task +
-    skeleton_order). Returns ({pattern: rank or None}, skeletons enumerated)."""
+    planner_order). Returns ({pattern: rank or None}, skeletons enumerated)."""
     from ..lang.loader import load_domain, load_problem
     from ..planner.bilevel import prepare_task
-    from ..planner.supply import skeleton_order
+    from ..planner.supply import planner_order
 
     loaded, parsed = load_problem(problem, [load_domain([domain])])
     task, _ = prepare_task(loaded, parsed, use_mechanisms=not basis_only)
     wanted = {p: skeleton_ops(p) for p in patterns}
     found: Dict[str, Optional[int]] = {p: None for p in patterns}
     count = 0
-    for plan in skeleton_order(task, time.perf_counter() + seconds):
+    for plan in planner_order(task, time.perf_counter() + seconds):
         count += 1
         ops = skeleton_ops(" ".join(task.operators[o].label for o in plan))
         for p, pattern in wanted.items():

@@ -152,7 +152,10 @@ CONFIG_DEFAULTS: Dict[str, object] = {"planner_seed_offset": 0}
 
 class TrialStore:
     """OUT/config.json (what the trials were run with) and OUT/trials.jsonl (one line per
-    finished trial, flushed and synced as it lands: an interrupt loses only trials in flight)."""
+    finished trial, flushed and synced as it lands: an interrupt loses only trials in flight).
+    A benchmark whose trials carry more fields sets `trial_type` to its Trial subclass."""
+
+    trial_type = Trial
 
     def __init__(self, folder: str, config: Dict[str, object], resume: bool):
         self.folder = folder
@@ -182,7 +185,7 @@ class TrialStore:
         with open(self.path, encoding="utf-8") as handle:
             for line in handle:
                 try:
-                    out.append(Trial(**json.loads(line)))
+                    out.append(self.trial_type(**json.loads(line)))
                 except (ValueError, TypeError):
                     continue  # a line cut short by a kill: that trial runs again
         return out
@@ -206,3 +209,12 @@ def run_all(store: TrialStore, jobs: Sequence[Job], workers: int, backend: str,
         store.add(trial)
         on_trial(trial)
     return [store.trials[job.key] for job in jobs if job.key in store.trials]
+
+
+def open_store(folder: str, config: Dict[str, object], resume: bool, table_only: bool,
+               store_type: type = TrialStore) -> TrialStore:
+    """The results folder of a benchmark run: `resume` continues the run it holds,
+    `table_only` reads it without running (it must hold trials)."""
+    if table_only and not os.path.exists(os.path.join(folder, TRIALS_FILE)):
+        raise TrialsError(f"--table-only: {folder} holds no trials")
+    return store_type(folder, config, resume or table_only)

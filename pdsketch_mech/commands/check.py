@@ -42,10 +42,14 @@ def describe_domain(loaded: LoadedDomain) -> str:
 
 
 def check_samplers(loaded: LoadedDomain) -> None:
-    """Every stream is implemented by a sampler the planner has."""
+    """Every stream is implemented by a sampler the planner has, and the vocabulary the
+    domain names exists."""
     if not loaded.domain.streams:
         return
-    from ..samplers.registry import GENERIC_SAMPLERS as SAMPLERS  # loads the simulator: only with streams
+    from ..operators.vocabulary import vocabulary_of   # loads the simulator: only with streams
+    from ..samplers.registry import GENERIC_SAMPLERS as SAMPLERS
+
+    vocabulary_of(loaded.domain)
 
     for stream in loaded.domain.streams:
         name = stream.sampler or stream.name
@@ -82,11 +86,12 @@ def check_scene(loaded: LoadedDomain, problem: Problem, path: str) -> List[PddlW
     with build_world(problem, warnings=warnings) as world:
         if not streams:
             return warnings  # a classical plan never looks at the scene
-        from ..planner.bilevel import _initial_mismatch, prepare_task
+        from ..planner.bilevel import prepare_task
+        from ..planner.run_stats import initial_mismatch
 
         task, _ = prepare_task(loaded, problem)
         world.settle()  # as the planner does before it compares
-        mismatch = _initial_mismatch(task, world)
+        mismatch = initial_mismatch(task, world)
     return warnings + ([PddlWarning(mismatch, file=path)] if mismatch else [])
 
 

@@ -119,11 +119,11 @@ def _summary(result: ClassicalResult) -> str:
 
 def _print_skeletons(loaded: LoadedDomain, problem: Problem, wanted: int, deadline: float) -> int:
     from ..planner.bilevel import prepare_task
-    from ..planner.supply import skeleton_order  # as the bilevel planner searches
+    from ..planner.supply import planner_order  # as the bilevel planner searches
 
     task, _ = prepare_task(loaded, problem)
     found: List[str] = []
-    for plan in skeleton_order(task, deadline):
+    for plan in planner_order(task, deadline):
         found.append(" ".join(task.operators[o].label for o in plan))
         print(f"{len(found)}: {found[-1]}")
         if len(found) >= wanted:

@@ -131,11 +131,17 @@ def _weak_training(checkpoint: str) -> str:
 
 
 def merge_domains(base: Domain, extra: Domain) -> Domain:
-    """`base` plus everything `extra` declares; duplicates are caught by the type checker."""
+    """`base` plus everything `extra` declares; duplicates are caught by the type checker,
+    a fragment naming another vocabulary than its base here."""
+    if base.vocabulary and extra.vocabulary and base.vocabulary != extra.vocabulary:
+        raise PddlError(f"vocabulary '{extra.vocabulary}' differs from '{base.vocabulary}', the vocabulary of "
+                        f"domain '{base.name}' that this domain extends", extra.vocabulary_loc)
     return replace(
         base,
         requirements=tuple(dict.fromkeys(base.requirements + extra.requirements)),
         extends=(),
+        vocabulary=base.vocabulary or extra.vocabulary,
+        vocabulary_loc=base.vocabulary_loc if base.vocabulary else extra.vocabulary_loc,
         types=base.types + extra.types,
         value_types=base.value_types + extra.value_types,
         constants=base.constants + extra.constants,

@@ -227,6 +227,8 @@ class Domain:
     name: str
     requirements: Tuple[str, ...] = ()
     extends: Tuple[str, ...] = ()
+    vocabulary: Optional[str] = None   # the basis vocabulary the planner reads (operators/vocabulary.py)
+    vocabulary_loc: Optional[Loc] = _loc()
     types: Tuple[TypedName, ...] = ()
     value_types: Tuple[TypedName, ...] = ()
     constants: Tuple[TypedName, ...] = ()

@@ -167,6 +167,7 @@ class _ToNodes(Transformer_NonRecursive):
         f = self._fields(items, f"domain '{name.lower()}'")
         return Domain(
             name=name.lower(), requirements=f.get("requirements", ()), extends=f.get("extends", ()),
+            vocabulary=(f.get("vocabulary") or (None, None))[0], vocabulary_loc=(f.get("vocabulary") or (None, None))[1],
             types=f.get("types", ()), value_types=f.get("value_types", ()),
             constants=f.get("constants", ()), predicates=tuple(f.get("predicates", ())),
             actions=tuple(f.get("Action", ())), streams=tuple(f.get("Stream", ())),
@@ -190,6 +191,10 @@ class _ToNodes(Transformer_NonRecursive):
     @v_args(meta=True)
     def extends(self, meta, tokens):
         return "extends", tuple(t[1:-1] for t in tokens), self._loc(meta)
+
+    @v_args(meta=True)
+    def vocabulary(self, meta, tokens):
+        return "vocabulary", (str(tokens[0]).lower(), self._loc(tokens[0])), self._loc(meta)
 
     @v_args(meta=True)
     def requirements(self, meta, tokens):

@@ -28,6 +28,8 @@ def write_domain(domain: Domain) -> str:
     out = [f"(define (domain {domain.name})"]
     if domain.extends:
         out.append(f"  (:extends {' '.join(string_literal(p) for p in domain.extends)})")
+    if domain.vocabulary:
+        out.append(f"  (:vocabulary {domain.vocabulary})")
     if domain.requirements:
         out.append(f"  (:requirements {' '.join(domain.requirements)})")
     for keyword, names in ((":types", domain.types), (":value-types", domain.value_types),

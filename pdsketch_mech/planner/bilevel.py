@@ -5,7 +5,9 @@ by sampling and simulation.
 One loop: the skeletons in view (the active ones and the next few from the search) are
 scored by one score (schedule.py), the lowest gets the next slice of work (created first if
 it is new), and what its refinement learns goes into one evidence store (evidence.py) that
-every later score reads. docs/planner.md maps it to Alg. 1 and to PDDLStream.
+every later score reads. Nothing is lost for good: a skeleton whose first step is believed
+dead is set aside with the others that repeat that step, and all come back when the belief
+is revisited. docs/planner.md maps it to Alg. 1 and to PDDLStream and argues completeness.
 """
 from __future__ import annotations
 
@@ -19,20 +21,22 @@ import numpy as np
 
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
+from ..operators.vocabulary import BASIS, Vocabulary, vocabulary_of
 from ..symbolic.grounding import ground
 from ..symbolic.optimistic import optimistic_problem
 from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
+from .budget import DEFAULT_BUDGET, SearchBudget
 from .evidence import Evidence
-from .execute import contact_mask, execute_plan, observed_state, settle_start
-from .failure_hint import failed_steps
+from .execute import execute_plan, settle_start
 from .macros import add_mechanism_macros
 from .probes import GroundingProbes
 from .refine import Refinement
-from .schedule import SLICE, lowest, score
+from .run_stats import RunStats, initial_mismatch
+from .schedule import lowest, score
 from .serialize import plan_entries
-from .skeleton import Skeleton, Step, step_label
+from .skeleton import Skeleton, Step
 from .supply import SkeletonSupply
 
 if TYPE_CHECKING:
@@ -49,197 +53,145 @@ class PlanResult:
     reason: str = ""
 
 
-# Operators that only move the arm through free space. Every operator plans its own
-# approach from wherever the arm is, so on their own these never enable anything; the
-# symbolic search skips them unless a mechanism lists them as steps.
-FREE_MOTIONS = ("transit", "move")
-
-
-def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = True):
+def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = True,
+                 vocabulary: Vocabulary = BASIS):
     """Optimistic problem, grounded task (not relevance-pruned: effect-free pushes matter),
-    and mechanisms as macro operators."""
+    and mechanisms as macro operators. Free motions are left out unless a mechanism lists
+    them as steps: every operator plans its own approach, so on their own they enable
+    nothing."""
     optimistic, placeholders = optimistic_problem(domain.domain, problem, domain.types)
     task = ground(domain.domain, optimistic, domain.types, prune_irrelevant=False)
     steps = {call.name for m in domain.domain.mechanisms for call in m.actions} if use_mechanisms else set()
-    task.operators = [op for op in task.operators if op.name not in FREE_MOTIONS or op.name in steps]
+    task.operators = [op for op in task.operators if op.name not in vocabulary.free_motions or op.name in steps]
     if use_mechanisms and domain.domain.mechanisms:
-        add_mechanism_macros(task, domain.domain, domain.types, optimistic)
+        add_mechanism_macros(task, domain.domain, domain.types, optimistic, vocabulary)
     return task, placeholders
 
 
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
-                 use_mechanisms: bool = True, max_skeletons: int = 200, validate: bool = True,
-                 learned: Optional[Mapping[str, "LearnedMechanism"]] = None) -> PlanResult:
+                 use_mechanisms: bool = True, validate: bool = True,
+                 learned: Optional[Mapping[str, "LearnedMechanism"]] = None,
+                 budget: SearchBudget = DEFAULT_BUDGET, vocabulary: Optional[Vocabulary] = None) -> PlanResult:
     """Plan in `world` (a fresh world of `problem`'s scene; left as it was) within `timeout`
     seconds. With `validate`, a refined skeleton counts only once it has been re-executed
     in another fresh world, as `replay` does, and reached the goal there. `learned`: the
-    mechanisms' learned samplers, by mechanism name."""
-    start = time.perf_counter()
-    deadline = start + timeout
-    task, placeholders = prepare_task(domain, problem, use_mechanisms)
-    counts: Counter = Counter()
-    sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts,
-                          learned if use_mechanisms else None)
-    sampler.deadline = deadline
-    warnings = settle_start(world)
-    initial = world.snapshot()
-    stats: Dict[str, object] = {"skeletons": 0, "refined": 0, "pruned": 0, "samples": counts,
-                                "operators": len(task.operators), "executions": 0, "rejected": 0,
-                                "symbolic_s": 0.0, "continuous_s": 0.0}
-    sim_start = world.sim_steps
-    mismatch = _initial_mismatch(task, world)
-    if mismatch:
-        warnings.append(mismatch)
-    if warnings:
-        stats["warnings"] = warnings
-
-    def in_fresh_world(steps: List[Step], values: List[Dict[str, object]]) -> Optional[str]:
-        result = execute_plan(task, problem, plan_entries(steps, values))
-        return None if result.goal_reached else f"in a fresh world, {result.message}"
-    evidence = Evidence(task, sampler.promise, start)
-    supply = SkeletonSupply(task, evidence, deadline, max_skeletons)
-    probes = GroundingProbes(task, sampler, world, initial, seed)
-    active: Dict[int, Refinement] = {}
-    stats["skeleton_log"] = []
-    failures: Counter = Counter()
-    step_failures: Counter = Counter()   # (step, why) over every skeleton, for the failure hint
-    try:
-        while time.perf_counter() < deadline:
-            window = supply.upcoming()
-            sampler.promise.register(g for skeleton in window for g in skeleton.groundings())
-            if sampler.learned:
-                probes.probe(window)
-                stats["probes"] = probes.count
-            # An upcoming skeleton competes as the next rank; among them, the search's order decides ties.
-            rank = supply.taken + 1
-            chosen = lowest([(score(r.rank, r.effort, evidence.estimate(r.skeleton, r.number)), (r.rank,), r)
-                             for r in active.values()]
-                            + [(score(rank, 0, evidence.estimate(s)), (rank, s.order, s.number), s) for s in window])
-            if chosen is None:
-                break
-            if isinstance(chosen, Skeleton):
-                supply.take(chosen)
-                _log_created(stats, chosen, rank, window, task, evidence, start)
-                # Each skeleton draws from its own generator, seeded by the plan's seed and its
-                # labels: what one skeleton draws does not depend on which others came first.
-                rng = np.random.default_rng([seed, zlib.crc32(chosen.label(task).encode())])
-                chosen = active[chosen.number] = Refinement(chosen, initial, world, task, sampler, rng,
-                                                            in_fresh_world if validate else None, evidence, rank,
-                                                            step_failures=step_failures)
-            refinement, deaths = chosen, evidence.deaths
-            t0 = time.perf_counter()
-            values = refinement.run(deadline, SLICE)
-            stats["continuous_s"] += time.perf_counter() - t0
-            if values is not None:
-                del active[refinement.number]
-                for other in active.values():
-                    failures += _retire(other, stats, evidence)
-                _final_counts(stats, supply, evidence, world.sim_steps - sim_start)
-                return _result("solved", refinement, values, start, stats, failures + refinement.failures, evidence,
-                               step_failures)
-            if refinement.exhausted:
-                del active[refinement.number]
-                stats["pruned"] += 1
-                failures += _retire(refinement, stats, evidence)
-            if evidence.deaths > deaths:  # skeletons that repeat the dead step wait for the others
-                for number in [n for n, other in active.items() if evidence.blocks(other.pristine)]:
-                    retired = active.pop(number)
-                    failures += _retire(retired, stats, evidence)
-                    supply.defer(retired.skeleton)
-    finally:
-        world.restore(initial)
-    for refinement in active.values():
-        failures += _retire(refinement, stats, evidence)
-    _final_counts(stats, supply, evidence, world.sim_steps - sim_start)
-    elapsed = time.perf_counter() - start
-    if time.perf_counter() >= deadline:
-        reason = f"timed out after {elapsed:.1f} s"
-    elif stats["skeletons"] == 0:
-        reason = "no plan exists: no sequence of operators reaches the goal symbolically"
-    else:
-        reason = f"no plan exists: none of the {stats['skeletons']} skeletons could be refined"
-    return PlanResult("unsolved", time_s=elapsed, reason=reason,
-                      stats=_finish_stats(stats, failures, sampler, step_failures, evidence))
+    mechanisms' learned samplers, by mechanism name. `vocabulary`: the one the domain names
+    unless given."""
+    return BilevelSearch(domain, problem, world, timeout, seed, use_mechanisms, validate, learned, budget,
+                         vocabulary or vocabulary_of(domain.domain)).run()
 
 
-def _log_created(stats: Dict[str, object], skeleton: Skeleton, rank: int, window: List[Skeleton],
-                 task: StripsTask, evidence: Evidence, start: float) -> None:
-    """The statistics' entry of a skeleton as it is created: when, what, and what the
-    evidence said of it then."""
-    entry: Dict[str, object] = {"rank": rank, "number": skeleton.number, "created_s": round(time.perf_counter() - start, 3),
-                                "skeleton": skeleton.label(task)}
-    if skeleton.source:
-        entry["basis_only"] = True   # from the search over basis operators alone
-    passed = [s for s in window if s.number < skeleton.number]
-    if passed:
-        entry["passed"] = len(passed)   # skeletons the search found first, left waiting
-    detours = evidence.detours(skeleton.plan)
-    if detours:
-        entry["detours"] = detours
-    stats["skeleton_log"].append(entry)
+class BilevelSearch:
+    """One plan's search: the loop of the module docstring and the state it shares."""
 
+    def __init__(self, domain: LoadedDomain, problem: Problem, world: World, timeout: float, seed: int,
+                 use_mechanisms: bool, validate: bool, learned: Optional[Mapping[str, "LearnedMechanism"]],
+                 budget: SearchBudget, vocabulary: Vocabulary):
+        self.start = time.perf_counter()
+        self.deadline = self.start + timeout
+        self.problem, self.world, self.seed, self.validate = problem, world, seed, validate
+        self.budget, self.vocabulary = budget, vocabulary
+        self.task, placeholders = prepare_task(domain, problem, use_mechanisms, vocabulary)
+        counts: Counter = Counter()
+        self.sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts,
+                                   learned if use_mechanisms else None, budget=budget.samplers)
+        self.sampler.deadline = self.deadline
+        self.stats = RunStats(self.task, counts, self.start)
+        warnings = settle_start(world)
+        self.initial = world.snapshot()
+        mismatch = initial_mismatch(self.task, world, vocabulary)
+        self.stats.warn(warnings + ([mismatch] if mismatch else []))
+        self.evidence = Evidence(self.task, self.sampler.promise, self.start, budget)
+        self.supply = SkeletonSupply(self.task, self.evidence, self.deadline, budget, vocabulary)
+        self.probes = GroundingProbes(self.task, self.sampler, world, self.initial, seed)
+        self.active: Dict[int, Refinement] = {}
+        self.work = 0   # units done by every refinement together: the evidence's clock
 
-def _final_counts(stats: Dict[str, object], supply: SkeletonSupply, evidence: Evidence, sim_steps: int) -> None:
-    stats.update(skeletons=supply.taken, deferred=supply.deferrals, sim_steps=sim_steps, dead_steps=evidence.labels())
-    stats["symbolic_s"] += supply.search_s
+    def run(self) -> PlanResult:
+        """Work on the lowest-scored skeleton until one is refined or the time is up."""
+        sim_start = self.world.sim_steps
+        try:
+            while time.perf_counter() < self.deadline:
+                chosen = self._choose()
+                if chosen is None:
+                    break
+                values = self._work_on(chosen)
+                if values is not None:
+                    return self._solved(chosen, values, self.world.sim_steps - sim_start)
+        finally:
+            self.world.restore(self.initial)
+        for refinement in self.active.values():
+            self.stats.retire(refinement, self.evidence)
+        self.stats.final(self.supply, self.evidence, self.world.sim_steps - sim_start)
+        elapsed = time.perf_counter() - self.start
+        if time.perf_counter() >= self.deadline:
+            reason = f"timed out after {elapsed:.1f} s"
+        elif self.stats.created == 0:
+            reason = "no plan exists: no sequence of operators reaches the goal symbolically"
+        else:
+            reason = f"no plan exists: none of the {self.stats.created} skeletons could be refined"
+        return PlanResult("unsolved", time_s=elapsed, reason=reason,
+                          stats=self.stats.document(self.sampler, self.evidence))
 
+    def _choose(self) -> Optional[Refinement]:
+        """The refinement the score puts first, created if it is an upcoming skeleton."""
+        window = self.supply.upcoming()
+        self.sampler.promise.register(g for skeleton in window for g in skeleton.groundings())
+        if self.sampler.learned:
+            self.probes.probe(window)
+            self.stats.probes = self.probes.count
+        # An upcoming skeleton competes as the next rank; among them, the search's order decides ties.
+        rank, units, evidence = self.supply.taken + 1, self.budget.slice, self.evidence
+        chosen = lowest([(score(r.rank, r.effort, evidence.estimate(r.skeleton, r.number), units), (r.rank,), r)
+                         for r in self.active.values()]
+                        + [(score(rank, 0, evidence.estimate(s), units), (rank, s.order, s.number), s) for s in window])
+        if not isinstance(chosen, Skeleton):
+            return chosen
+        self.supply.take(chosen)
+        self.stats.created_skeleton(chosen, rank, window, evidence)
+        # Each skeleton draws from its own generator, seeded by the plan's seed and its
+        # labels: what one skeleton draws does not depend on which others came first.
+        rng = np.random.default_rng([self.seed, zlib.crc32(chosen.label(self.task).encode())])
+        refinement = Refinement(chosen, self.initial, self.world, self.task, self.sampler, rng,
+                                self._in_fresh_world if self.validate else None, evidence, rank,
+                                step_failures=self.stats.step_failures, budget=self.budget, vocabulary=self.vocabulary)
+        self.active[chosen.number] = refinement
+        return refinement
 
-def _retire(refinement: Refinement, stats: Dict[str, object], evidence: Evidence) -> Counter:
-    """Close the skeleton's statistics entry (its latest: a deferred skeleton may come twice)."""
-    entry = next(e for e in reversed(stats["skeleton_log"]) if e["number"] == refinement.number)
-    entry["effort"], entry["steps_reached"] = refinement.effort, f"{refinement.deepest}/{len(refinement.steps)}"
-    if refinement.unblocked:
-        entry["unblocked"] = len(refinement.unblocked)
-    if refinement.failures:  # where this skeleton's work went: which step failed, and why
-        entry["failures"] = dict(refinement.failures.most_common(4))
-    terms = {k: round(v, 2) for k, v in evidence.log_terms(refinement.skeleton, refinement.number).items() if v}
-    if terms:  # what the evidence said of it last, as natural logs
-        entry["estimate"] = terms
-    stats["executions"] += refinement.executions
-    stats["refined"] += refinement.executions > 0
-    stats["rejected"] += refinement.rejected
-    return refinement.failures
-
-
-def _result(status: str, refinement: Refinement, values, start: float, stats, failures,
-            evidence: Evidence, step_failures: Counter) -> PlanResult:
-    _retire(refinement, stats, evidence)
-    return PlanResult(status, refinement.steps, values, time.perf_counter() - start,
-                      _finish_stats(stats, failures, refinement.sampler, step_failures, evidence))
-
-
-def _finish_stats(stats: Dict[str, object], failures: Counter, sampler: StepSampler,
-                  step_failures: Counter, evidence: Evidence) -> Dict[str, object]:
-    """The statistics as the JSON document has them, with what the samplers recorded."""
-    out = dict(stats)
-    out["samples"] = dict(sorted(stats["samples"].items()))
-    # Per sampler: proposals verified (generic and learned apart) and values in simulated steps.
-    out["proposals"] = sampler.proposals()
-    out["simulated"] = dict(sorted(sampler.simulated.items()))
-    learned = sampler.learned.values()
-    scores = [t for m in learned for t in m.score_seconds]
-    out["score_ms"] = {"batches": len(scores), "median": round(1000 * float(np.median(scores)), 2) if scores else None,
-                       "max": round(1000 * max(scores), 2) if scores else None}
-    shapes = [t for m in learned for t in m.shape_seconds]
-    out["shape_ms"] = {"encoded": len(shapes), "total": round(1000 * sum(shapes), 2)}
-    out["trust"] = sampler.trust()
-    warnings = list(stats.get("warnings", ())) + sampler.extrapolation_warnings()
-    if warnings:
-        out["warnings"] = warnings
-    out["symbolic_s"] = round(stats["symbolic_s"], 3)
-    out["continuous_s"] = round(stats["continuous_s"], 3)
-    out["failures"] = dict(failures.most_common(8))
-    out["failed_steps"] = failed_steps(step_failures, sampler.verified, [step_label(*key) for key in evidence.dead])
-    return out
-
-
-def _initial_mismatch(task: StripsTask, world: World) -> Optional[str]:
-    """The problem's :init and the simulated scene should agree on the contact graph."""
-    observed = observed_state(task, world)
-    diff = (observed ^ task.init) & contact_mask(task)
-    if not diff:
+    def _work_on(self, refinement: Refinement) -> Optional[List[Dict[str, object]]]:
+        """One slice of work; then set aside what the evidence now says waits."""
+        deaths, effort = self.evidence.deaths, refinement.effort
+        t0 = time.perf_counter()
+        values = refinement.run(self.deadline, self.budget.slice)
+        self.stats.continuous_s += time.perf_counter() - t0
+        self.work += refinement.effort - effort
+        self.evidence.advance(self.work)
+        if values is not None:
+            return values
+        if refinement.exhausted:   # its first step is believed dead, or an empty plan the scene refutes
+            self._set_aside(refinement, defer=bool(refinement.steps))
+        if self.evidence.deaths > deaths:   # skeletons that repeat the dead step wait for the others
+            for other in [r for r in self.active.values() if self.evidence.blocks(r.pristine)]:
+                self._set_aside(other, defer=True)
         return None
-    facts = [task.facts[i] for i in range(len(task.facts)) if diff >> i & 1]
-    shown = ", ".join("(" + " ".join(f) + ")" + (" holds in the scene" if observed >> task.fact_ids[f] & 1
-                                                  else " is not true in the scene") for f in facts[:4])
-    return f"the scene and :init disagree: {shown}"
+
+    def _set_aside(self, refinement: Refinement, defer: bool) -> None:
+        """Retire a refinement; `defer`: its skeleton comes back when its dead step is revisited."""
+        del self.active[refinement.number]
+        self.stats.retire(refinement, self.evidence)
+        self.stats.pruned += 1
+        if defer:
+            self.supply.defer(refinement.skeleton)
+
+    def _in_fresh_world(self, steps: List[Step], values: List[Dict[str, object]]) -> Optional[str]:
+        result = execute_plan(self.task, self.problem, plan_entries(steps, values), vocabulary=self.vocabulary)
+        return None if result.goal_reached else f"in a fresh world, {result.message}"
+
+    def _solved(self, refinement: Refinement, values, sim_steps: int) -> PlanResult:
+        del self.active[refinement.number]
+        for other in self.active.values():
+            self.stats.retire(other, self.evidence)
+        self.stats.retire(refinement, self.evidence)
+        self.stats.final(self.supply, self.evidence, sim_steps)
+        return PlanResult("solved", refinement.steps, values, time.perf_counter() - self.start,
+                          self.stats.document(self.sampler, self.evidence))

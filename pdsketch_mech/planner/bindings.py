@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Mapping, Optio
 import numpy as np
 
 from ..lang.nodes import Stream
+from ..samplers.budget import SamplerBudget
 from ..samplers.interface import Sampler, SampleRequest, StepContext
 from ..samplers.registry import GENERIC_SAMPLERS
 from ..symbolic.optimistic import Placeholder, is_placeholder
@@ -38,9 +39,11 @@ class StepSampler:
     """Joint samples of a step's placeholder arguments, drawn stream by stream."""
 
     def __init__(self, streams: Mapping[str, Stream], placeholders: Mapping[str, Placeholder], counts: Counter,
-                 learned: Optional[Mapping[str, "LearnedMechanism"]] = None):
+                 learned: Optional[Mapping[str, "LearnedMechanism"]] = None,
+                 budget: SamplerBudget = SamplerBudget()):
         self.streams, self.placeholders, self.counts = streams, placeholders, counts
         self.learned = dict(learned or {})   # mechanism name -> its classifiers
+        self.budget = budget   # every sampler's search budgets (samplers/budget.py)
         self.simulated: Counter = Counter()  # sampler -> values of it in steps simulated
         # (step label, sampler, its objects where the scene began) -> [proposals verified, of
         # them feasible]: what a failing step lacked (failure_hint.py)
@@ -50,7 +53,8 @@ class StepSampler:
         if unknown:
             known = ", ".join(sorted(GENERIC_SAMPLERS))
             raise ValueError(f"no sampler named {', '.join(unknown)}; known: {known}")
-        self.samplers: Dict[str, Sampler] = {s.name: GENERIC_SAMPLERS[s.sampler or s.name]() for s in streams.values()}
+        self.samplers: Dict[str, Sampler] = {s.name: GENERIC_SAMPLERS[s.sampler or s.name](budget)
+                                             for s in streams.values()}
         self.observers: List[SampleObserver] = []
         self.verify_observers: List[VerifyObserver] = []
         self._ranked: Dict[Tuple[str, str, str], Sampler] = {}
@@ -66,7 +70,7 @@ class StepSampler:
         key = (stream, step.mechanism, variable)
         if key not in self._ranked:
             from ..samplers.learned.ranked import RankedSampler
-            ranked = RankedSampler(self.samplers[stream], learned, variable)
+            ranked = RankedSampler(self.samplers[stream], learned, variable, budget=self.budget)
             ranked.on_scores = lambda request, scores: self.promise.observe(
                 request.step.mechanism, request.step.mechanism_args, variable, float(np.max(scores)))
             self._ranked[key] = ranked

@@ -16,22 +16,31 @@ every visit that found no value. What the store holds, and the factor each gives
 - **a way past a dead step**: a step found dead where the scene began that has simulated
   after the same steps (skeleton.py, its *context*; the grasp of a box out of reach, once
   a hook pulled it closer), in any skeleton, this one included, whichever mechanism the
-  step belonged to: UNBLOCK_GAIN. Those steps are the only way found past the scene as it
+  step belonged to: `unblock_gain`. Those steps are the only way found past the scene as it
   began, and every skeleton that begins with them shares it.
 - **dead steps**: a step whose objects nothing earlier touched (a *pristine* step) meets them
-  as the scene began, whatever the skeleton; after DEAD_AFTER dry visits with no feasible
-  value ever, it is dead there. The skeleton search defers paths that repeat it (supply.py),
-  and refinement does not sample it again while its objects lie where they began.
+  as the scene began, whatever the skeleton; after `dead_after` dry visits with no feasible
+  value ever, it is believed dead there. The skeleton search defers paths that repeat it
+  (supply.py), and refinement does not sample it again while its objects lie where they
+  began. A belief, not a verdict: samplers are random, and a thin object's grasps may all
+  miss three visits in a row. Found dead for the k-th time when the planner's total work is
+  W, it is believed alive again once the total reaches W * revisit**k (`advance`): one
+  skeleton that waits on it comes back to try it, `dead_after` more dry visits set it
+  aside again, and a feasible value clears it for good (`cleared`), when everything that
+  waits on it comes back. The share of work this costs shrinks geometrically, and no step
+  is set aside for ever.
 - **detours**: operators that return the symbolic state to one seen before, handling no
   object of a dead step, change nothing the planner knows needs changing: each counts as a
   step with the uninformed chance 1/2 of being needed.
+- **promises**: per mechanism, whatever its grounding, how often its last step simulated as
+  promised in the other skeletons: Laplace's rule against the uninformed 1/2, never above 1.
 - **learned groundings**: with learned samplers, how far a mechanism grounding's classifier
   scores fall behind its best rival's (promise.py), as a log-probability ratio, never below
-  FLOOR on its own: a classifier wrong about a shape costs a bounded factor, which evidence
+  `floor` on its own: a classifier wrong about a shape costs a bounded factor, which evidence
   from the scene (a prefix past a dead step) can still outweigh.
 
-The estimate is the product of these ratios, never below FLOOR: every skeleton keeps a
-share of the work (schedule.py argues completeness from it).
+The estimate is the product of these ratios, never below `floor`: every skeleton keeps a
+share of the work (docs/planner.md argues completeness from it).
 """
 from __future__ import annotations
 
@@ -41,12 +50,9 @@ from collections import Counter, defaultdict
 from typing import Dict, List, Optional, Sequence, Set, Tuple
 
 from ..symbolic.task import StripsTask
+from .budget import DEFAULT_BUDGET, SearchBudget
 from .promise import GroundingPromise
 from .skeleton import Asked, Context, Question, Skeleton, StepKey, detour_steps, objects_of, touch_masks
-
-DEAD_AFTER = 3        # dry visits of a pristine step, never feasible, before it is dead where it lies
-FLOOR = 1.0 / 32.0    # the least estimate: the smallest share of work a skeleton keeps against the best
-UNBLOCK_GAIN = 8.0    # a prefix past a step dead as the scene began: the only way found past the scene
 
 
 class Evidence:
@@ -54,9 +60,9 @@ class Evidence:
     groundings' scores: one store (module docstring)."""
 
     def __init__(self, task: StripsTask, promise: Optional[GroundingPromise] = None,
-                 start: Optional[float] = None, dead_after: int = DEAD_AFTER, floor: float = FLOOR,
-                 gain: float = UNBLOCK_GAIN):
-        self.task, self.dead_after, self.floor, self.gain = task, dead_after, floor, gain
+                 start: Optional[float] = None, budget: SearchBudget = DEFAULT_BUDGET):
+        self.task, self.budget = task, budget
+        self.dead_after, self.floor, self.gain = budget.dead_after, budget.floor, budget.unblock_gain
         self.promise = promise if promise is not None else GroundingPromise()
         self.start = time.perf_counter() if start is None else start
         self.masks, self.bits = touch_masks(task)   # per operator: the movable objects it handles
@@ -67,7 +73,14 @@ class Evidence:
         self.dry: Counter = Counter()
         self.feasible: Set[StepKey] = set()
         self.dead: Dict[StepKey, float] = {}        # -> seconds from the start when found dead
-        self.deaths = 0                             # steps found dead so far (grows only)
+        self.deaths = 0                             # times a step was found dead so far (grows only)
+        self.revivals = 0                           # times a dead step was believed alive again (grows only)
+        self.revived: List[StepKey] = []            # those steps, in that order
+        self.cleared = 0                            # times a step once found dead proved feasible (grows only)
+        self.work = 0                               # the planner's work so far, in units
+        self.verdicts: Counter = Counter()          # step -> times it was found dead
+        self.first_dead: Dict[StepKey, float] = {}  # step ever found dead and not cleared -> when first
+        self.revisit_at: Dict[StepKey, float] = {}  # dead step -> total work at which it is revisited
         self._totals: Dict[Question, List[int]] = defaultdict(lambda: [0, 0])            # [successes, failures]
         self._by_owner: Dict[Tuple[Question, int], List[int]] = defaultdict(lambda: [0, 0])
         # Outcomes where a step has worked at least once: how often it works where it works,
@@ -78,6 +91,9 @@ class Evidence:
         # past a dead step, what matters is that the steps before moved its objects.
         self._passed: Set[Tuple[StepKey, Tuple[Asked, ...]]] = set()
         self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}   # plan -> (flagged, detour operators)
+        # Per mechanism (and per skeleton): its last step simulated as promised, or not.
+        self._promises: Dict[str, List[int]] = defaultdict(lambda: [0, 0])
+        self._promises_by_owner: Dict[Tuple[str, int], List[int]] = defaultdict(lambda: [0, 0])
 
     # -- what refinement reports ------------------------------------------------------
     def simulated(self, skeleton: Skeleton, index: int, ok: bool) -> None:
@@ -88,6 +104,10 @@ class Evidence:
         self._by_owner[(question, skeleton.number)][0 if ok else 1] += 1
         if ok:
             self._passed.add((context[0][:2], context[1]))
+        step = skeleton.steps[index] if index < len(skeleton.steps) else None
+        if step is not None and step.certified:   # a mechanism kept its promise, or not
+            self._promises[step.mechanism][0 if ok else 1] += 1
+            self._promises_by_owner[(step.mechanism, skeleton.number)][0 if ok else 1] += 1
         if total[0]:   # the step works here: its outcomes here say how often it works where it does
             added = total if ok and total[0] == 1 else ((1, 0) if ok else (0, 1))
             for counts in (self._working[question[0]], self._working_all):
@@ -104,17 +124,35 @@ class Evidence:
         if self.dry[key] < self.dead_after:
             return False
         self.dead[key] = round(time.perf_counter() - self.start, 3)
+        self.first_dead.setdefault(key, self.dead[key])
         self.deaths += 1
+        self.verdicts[key] += 1
+        self.revisit_at[key] = max(self.work, self.dead_after) * self.budget.revisit ** self.verdicts[key]
         for name in key[1]:
             if name in self.bits:
                 self.flagged |= 1 << self.bits[name]
         return True
 
+    def advance(self, work: int) -> bool:
+        """The planner has done `work` units in all: steps whose revisit is due are believed
+        alive again (their dry visits start over). True if one was."""
+        self.work = work
+        due = [key for key, at in self.revisit_at.items() if at <= work and key in self.dead]
+        for key in due:
+            del self.dead[key], self.revisit_at[key]
+            self.dry[key] = 0
+            self.revivals += 1
+            self.revived.append(key)
+        return bool(due)
+
     def found(self, key: Optional[StepKey]) -> None:
         """Pristine step `key` had a feasible value (it simulated without error): never dead."""
-        if key is not None:
+        if key is not None and key not in self.feasible:
             self.feasible.add(key)
             self.dead.pop(key, None)
+            self.revisit_at.pop(key, None)
+            self.first_dead.pop(key, None)
+            self.cleared += key in self.verdicts
 
     # -- what the search and refinement ask -------------------------------------------
     def blocks(self, keys: Sequence[Optional[StepKey]]) -> bool:
@@ -141,8 +179,9 @@ class Evidence:
         return [a for a in args if a in self.bits]
 
     def labels(self) -> Dict[str, float]:
-        """Dead steps, as '(name objects...)', and when each was found dead (s)."""
-        return {f"({name} {' '.join(objects)})": t for (name, objects), t in self.dead.items()}
+        """Steps found dead and never found feasible since (believed dead now, or being
+        revisited), as '(name objects...)', and when each was first found dead (s)."""
+        return {f"({name} {' '.join(objects)})": t for (name, objects), t in self.first_dead.items()}
 
     # -- the estimate -----------------------------------------------------------------
     def counts(self, question: Question, owner: int = 0) -> Tuple[int, int]:
@@ -162,7 +201,7 @@ class Evidence:
         return known[1]
 
     def log_lift(self, context: Context, question: Question, owner: int = 0) -> float:
-        """What is known of a step, as a natural log (module docstring): UNBLOCK_GAIN where a
+        """What is known of a step, as a natural log (module docstring): `unblock_gain` where a
         step dead as the scene began has worked after the same steps, the chance that it is
         not dead where it has only failed from the same contact state, 1 otherwise."""
         if context[0][:2] in self.dead and (context[0][:2], context[1]) in self._passed:
@@ -184,11 +223,25 @@ class Evidence:
             for context, question in set(zip(skeleton.contexts, skeleton.questions)):
                 outcomes += self.log_lift(context, question, owner)
         groundings = sum(self.promise.gap(g, promised) for g, promised in set(skeleton.groundings()))
-        # A classifier wrong about a shape costs at most FLOOR, whatever else is known.
+        kept = sum(self.log_kept(mechanism, owner) for mechanism in {g[0] for g, _ in skeleton.groundings()})
+        # A classifier wrong about a shape costs at most `floor`, whatever else is known.
         return {"outcomes": outcomes, "detours": -math.log(2.0) * self.detours(skeleton.plan),
-                "groundings": min(0.0, max(math.log(self.floor), groundings))}
+                "groundings": min(0.0, max(math.log(self.floor), groundings)), "promises": kept}
+
+    def log_kept(self, mechanism: str, owner: int = 0) -> float:
+        """How often `mechanism` kept its promise in other skeletons, whatever its grounding,
+        as a natural log: 2 (s + 1) / (s + f + 2) against the uninformed 1/2 (Laplace's rule),
+        never above 1. A mechanism whose certified facts keep failing (a user's trick whose
+        effect the generic samplers rarely reproduce) weighs on every skeleton that uses it,
+        new groundings included; once it works, little."""
+        total = self._promises.get(mechanism)
+        if total is None:
+            return 0.0
+        own = self._promises_by_owner.get((mechanism, owner), (0, 0))
+        kept, broken = total[0] - own[0], total[1] - own[1]
+        return min(0.0, math.log(2.0 * (kept + 1) / (kept + broken + 2)))
 
     def estimate(self, skeleton: Skeleton, owner: int = 0) -> float:
         """The skeleton's chance of being refined, relative to one nothing is known about:
-        the product of `log_terms`, at least FLOOR."""
+        the product of `log_terms`, at least `floor`."""
         return max(self.floor, math.exp(sum(self.log_terms(skeleton, owner).values())))

@@ -13,63 +13,37 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence
 from ..lang.nodes import Problem
 from ..operators import basis
 from ..operators.execution import FrameRecorder
+from ..operators.vocabulary import BASIS, Vocabulary
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
-from ..world.contacts import read_contacts
 from ..world.snapshot import Snapshot
-from ..world.values import Contact, Grasp, OPERATOR_VALUES, Placement, Trajectory
 from ..world.world import World
 from .serialize import from_json
 
-CONTACT_PREDICATES = ("holding", "support", "handempty")
 SETTLE_WARNING = 5e-3  # metres an object may move while the initial scene settles
 
 
 def run_step(world: World, action: str, args: Sequence[str], values: Mapping[str, object],
-             recorder: Optional[FrameRecorder] = None) -> basis.Outcome:
-    """Execute basis operator `action` with its arguments' sampled values."""
-    bound = [values.get(a, a) for a in args]
-    of = lambda kind: next((v for v in bound if isinstance(v, kind)), None)  # noqa: E731
-    trajectory: Optional[Trajectory] = of(Trajectory)
-    if action not in OPERATOR_VALUES:
-        raise ValueError(f"action '{action}' has no operator implementation; basis operators are "
-                         f"{', '.join(OPERATOR_VALUES)}")
-    missing = [kind.__name__.lower() for kind in OPERATOR_VALUES[action] if of(kind) is None]
-    if missing:
-        return basis.Outcome(False, f"no {' or '.join(missing)} value")
-    if action == "grasp":
-        return basis.grasp(world, args[0], of(Grasp), trajectory, recorder)
-    if action == "place":
-        return basis.place(world, args[0], of(Placement), trajectory, recorder)
-    if action in ("transit-cont", "move-cont"):
-        return basis.push(world, of(Contact), trajectory, recorder)
-    return basis.transit(world, trajectory, recorder)
+             recorder: Optional[FrameRecorder] = None, vocabulary: Vocabulary = BASIS) -> basis.Outcome:
+    """Execute operator `action` with its arguments' sampled values, as the vocabulary says."""
+    return vocabulary.execute(world, action, args, values, recorder)
 
 
 def execute_step(world: World, start: Snapshot, action: str, args: Sequence[str], values: Mapping[str, object],
-                 recorder: Optional[FrameRecorder] = None) -> basis.Outcome:
+                 recorder: Optional[FrameRecorder] = None, vocabulary: Vocabulary = BASIS) -> basis.Outcome:
     """Restore `start` canonically, then run the step."""
     world.restore(start)
-    return run_step(world, action, args, values, recorder)
+    return run_step(world, action, args, values, recorder, vocabulary)
 
 
-def contact_mask(task: StripsTask) -> int:
+def contact_mask(task: StripsTask, vocabulary: Vocabulary = BASIS) -> int:
     """The task facts the simulation can observe (the contact-mode graph)."""
-    mask = 0
-    for fact, i in task.fact_ids.items():
-        if fact[0] in CONTACT_PREDICATES:
-            mask |= 1 << i
-    return mask
+    return vocabulary.contact_mask(task)
 
 
-def observed_state(task: StripsTask, world: World) -> int:
-    """The contact-graph facts true in the world, as task bits."""
-    state = 0
-    for fact in read_contacts(world).facts():
-        i = task.fact_ids.get(tuple(fact))
-        if i is not None:
-            state |= 1 << i
-    return state
+def observed_state(task: StripsTask, world: World, vocabulary: Vocabulary = BASIS) -> int:
+    """The observable facts true in the world, as task bits."""
+    return vocabulary.observed(task, world)
 
 
 def goal_holds(task: StripsTask, state: int) -> bool:
@@ -102,7 +76,7 @@ class ExecutionResult:
 
 
 def execute_plan(task: StripsTask, problem: Problem, steps: Sequence[Dict[str, Any]],
-                 recorder: Optional[FrameRecorder] = None) -> ExecutionResult:
+                 recorder: Optional[FrameRecorder] = None, vocabulary: Vocabulary = BASIS) -> ExecutionResult:
     """Run plan `steps` (JSON entries with "name", "args", "params") in a fresh world built
     from `problem`'s scene, each from a canonical restore, and check the goal at the end."""
     with build_world(problem, visual=recorder is not None) as world:
@@ -111,15 +85,15 @@ def execute_plan(task: StripsTask, problem: Problem, steps: Sequence[Dict[str, A
             recorder.tick(world, force=True)
         for index, step in enumerate(steps, 1):
             values = {name: from_json(value) for name, value in step.get("params", {}).items()}
-            outcome = execute_step(world, world.snapshot(), step["name"], step["args"], values, recorder)
+            outcome = execute_step(world, world.snapshot(), step["name"], step["args"], values, recorder, vocabulary)
             if not outcome.ok:
                 if recorder:   # what happened up to there
                     recorder.finish(world)
                 return ExecutionResult(False, f"step {index} ({step['name']}) failed: {outcome.reason}", index)
         if recorder:
             recorder.tick(world, force=True)
-        observable = contact_mask(task)
-        reached = goal_holds(task, (observed_state(task, world) & observable) | (task.init & ~observable))
+        observable = contact_mask(task, vocabulary)
+        reached = goal_holds(task, (observed_state(task, world, vocabulary) & observable) | (task.init & ~observable))
         if recorder:
             recorder.finish(world)
     return ExecutionResult(reached, "the goal holds in the simulation" if reached else

@@ -41,14 +41,20 @@ def failed_steps(step_failures: Mapping[Tuple[str, str], int],
     return out
 
 
-def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool) -> Optional[str]:
-    """The hint an unsolved run prints: the steps never feasible where their objects start,
-    then the steps that failed most and how (SHOWN steps in all), and, when the domain was
-    planned without mechanisms, that one may help; None when there is nothing to say."""
+def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool,
+                 by_mechanism: Optional[Mapping[str, Mapping[str, int]]] = None) -> Optional[str]:
+    """The hint an unsolved run prints: first a mechanism that got in the way (its certified
+    facts failed more often than any step failed otherwise, in skeletons it crowded: what to
+    try instead), then the steps never feasible where their objects start, then the steps
+    that failed most and how (SHOWN steps in all), and, when the domain was planned without
+    mechanisms, that one may help; None when there is nothing to say."""
+    parts: List[str] = []
+    blocker = _mechanism_in_the_way(failed, by_mechanism or {})
+    if blocker:
+        parts.append(blocker)
     # A dead step's counts are those of its visits where its objects start: none is feasible there.
     dead = [f"{label}{_proposals(entry)}" for label, entry in failed.items() if entry.get("dead")][:SHOWN]
     most = [_how(label, entry) for label, entry in failed.items() if not entry.get("dead") and entry["why"]]
-    parts: List[str] = []
     if dead:
         parts.append("never feasible where its objects start: " + ", ".join(dead))
     if most[:SHOWN - len(dead)]:
@@ -56,6 +62,23 @@ def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool) -
     if not mechanisms:
         parts.append("a mechanism (--mechanisms all) may help")
     return "; ".join(parts) or None
+
+
+def _mechanism_in_the_way(failed: Mapping[str, Mapping[str, object]],
+                          by_mechanism: Mapping[str, Mapping[str, int]]) -> Optional[str]:
+    """`mechanism 'X' got in the way: its certified facts failed N times in K of M skeletons;
+    try ...` for the mechanism whose broken promise is the run's commonest failure."""
+    if not by_mechanism:
+        return None
+    name, row = max(by_mechanism.items(), key=lambda item: (item[1]["certified_failed"], item[0]))
+    broken = row["certified_failed"]
+    others = [entry["failures"] for label, entry in failed.items() if label.split()[0] != name]
+    if not broken or broken < max(others, default=0):
+        return None
+    return (f"mechanism '{name}' got in the way: its certified facts failed {broken} times, in "
+            f"{row['skeletons']} of {row['of']} skeletons; plan without it (leave it out of --mechanisms, "
+            "or --basis-only) to see whether the basis operators solve this scene, and retrain it "
+            "(learn train) on scenes like this one")
 
 
 def _how(label: str, entry: Mapping[str, object]) -> str:

@@ -15,19 +15,21 @@ from typing import Dict, Iterator, List, Optional, Sequence, Tuple
 
 from ..lang.nodes import Domain, Formula, Mechanism, Problem, Var
 from ..lang.typecheck import TypeTable
+from ..operators.vocabulary import BASIS, Vocabulary
 from ..symbolic.grounding import objects_by_type
 from ..symbolic.normalize import dnf, substitute
 from ..symbolic.optimistic import is_placeholder
 from ..symbolic.task import Operator, StripsTask
 
 
-def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, problem: Problem) -> int:
+def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, problem: Problem,
+                         vocabulary: Vocabulary = BASIS) -> int:
     """Append one macro operator per applicable grounding of each mechanism; returns how many."""
     objects = objects_by_type(domain, problem, types)
     by_signature: Dict[Tuple[str, Tuple[str, ...]], List[int]] = defaultdict(list)
     for op_id, op in enumerate(task.operators):
         by_signature[(op.name, tuple(a for a in op.args if not is_placeholder(a)))].append(op_id)
-    supports = other_supports(task)
+    supports = other_supports(task, vocabulary)
     added = 0
     for mechanism in domain.mechanisms:
         object_params = [q for q in mechanism.parameters if not types.is_value(q.type)]
@@ -42,14 +44,13 @@ def add_mechanism_macros(task: StripsTask, domain: Domain, types: TypeTable, pro
     return added
 
 
-def other_supports(task: StripsTask) -> Dict[int, int]:
-    """For each `(support x y)` fact id, the mask of x's other support facts."""
+def other_supports(task: StripsTask, vocabulary: Vocabulary = BASIS) -> Dict[int, int]:
+    """For each fact id saying what supports an object x, the mask of x's other such facts."""
     by_object: Dict[str, int] = defaultdict(int)
     for fact, i in task.fact_ids.items():
-        if fact[0] == "support" and len(fact) == 3:
+        if vocabulary.support_fact(fact):
             by_object[fact[1]] |= 1 << i
-    return {i: by_object[fact[1]] & ~(1 << i) for fact, i in task.fact_ids.items()
-            if fact[0] == "support" and len(fact) == 3}
+    return {i: by_object[fact[1]] & ~(1 << i) for fact, i in task.fact_ids.items() if vocabulary.support_fact(fact)}
 
 
 def _bind_steps(mechanism: Mechanism, binding: Dict[str, str], task: StripsTask,

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Set, Tuple
 
+from ..operators.vocabulary import BASIS, Vocabulary
 from ..samplers.interface import StepContext
 from ..symbolic.optimistic import is_placeholder
 from ..symbolic.task import Operator, StripsTask
@@ -62,15 +63,14 @@ def skeleton_groundings(steps: Sequence[Step]) -> List[Tuple[Grounding, Promise]
     return [((s.mechanism, s.mechanism_args), s.certified) for s in steps if s.certified]
 
 
-def fixed_objects(task: StripsTask) -> Set[str]:
-    """Objects the initial state calls (fixed X): never moved, so never 'touched'."""
-    held = [fact for i, fact in enumerate(task.facts) if task.init >> i & 1] + list(task.static_facts)
-    return {fact[1] for fact in held if fact[0] == "fixed"}
+def fixed_objects(task: StripsTask, vocabulary: Vocabulary = BASIS) -> Set[str]:
+    """Objects the initial state calls fixed: never moved, so never 'touched'."""
+    return vocabulary.fixed_objects(task)
 
 
-def touch_masks(task: StripsTask) -> Tuple[List[int], Dict[str, int]]:
+def touch_masks(task: StripsTask, vocabulary: Vocabulary = BASIS) -> Tuple[List[int], Dict[str, int]]:
     """Per operator, a bitmask of the movable objects it handles; and each object's bit."""
-    fixed = fixed_objects(task)
+    fixed = fixed_objects(task, vocabulary)
     index: Dict[str, int] = {}
     masks = []
     for op in task.operators:
@@ -145,10 +145,10 @@ def mismatch(observed: int, step: Step, observable: int) -> int:
     return diff & ~(observed & step.tolerated)
 
 
-def goal_free_supports(task: StripsTask) -> int:
-    """The task's `support` facts that the goal does not need false (nor any of a
+def goal_free_supports(task: StripsTask, vocabulary: Vocabulary = BASIS) -> int:
+    """The task's support facts that the goal does not need false (nor any of a
     disjunctive goal's alternatives)."""
-    supports = sum(1 << i for fact, i in task.fact_ids.items() if fact[0] == "support")
+    supports = sum(1 << i for fact, i in task.fact_ids.items() if vocabulary.support_fact(fact))
     needed_false = task.goal_neg
     for op in task.operators:
         if op.artificial:
@@ -156,7 +156,8 @@ def goal_free_supports(task: StripsTask) -> int:
     return supports & ~needed_false
 
 
-def tolerated_supports(task: StripsTask, candidates: int, step: Operator, later: Sequence[int]) -> int:
+def tolerated_supports(task: StripsTask, candidates: int, step: Operator, later: Sequence[int],
+                       vocabulary: Vocabulary = BASIS) -> int:
     """Support facts (of `candidates`) that `step` may add beyond its effects: an object
     that ends up resting on one more body than the skeleton says still rests on the ones
     it says (a weight put on a plate's overhang, its handle on the wall beyond). Not so the
@@ -170,20 +171,20 @@ def tolerated_supports(task: StripsTask, candidates: int, step: Operator, later:
         for cond in op.conditional:
             needed_false |= cond.pre | cond.neg
     moved = step.args[0] if step.args else None
-    own = sum(1 << i for fact, i in task.fact_ids.items() if fact[0] == "support" and fact[1] == moved)
+    own = sum(1 << i for fact, i in task.fact_ids.items() if vocabulary.support_fact(fact) and fact[1] == moved)
     if step.add & own:  # the step says where its object comes to rest
         own = 0
     return candidates & ~needed_false & ~own
 
 
-def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
+def skeleton_steps(task: StripsTask, plan: Sequence[int], vocabulary: Vocabulary = BASIS) -> List[Step]:
     """Basis steps of a skeleton with the state each must produce (macros expanded) and
     the support facts each may add unexpected (`tolerated_supports`). The artificial
     steps that reach a disjunctive goal have no physical content: the states the real
     steps must produce already satisfy one disjunct."""
     basis_ids = [b for op_id in plan if not task.operators[op_id].artificial
                  for b in (task.operators[op_id].steps or (op_id,))]
-    steps, state, supports = [], task.init, goal_free_supports(task)
+    steps, state, supports = [], task.init, goal_free_supports(task, vocabulary)
     for op_id in plan:
         op = task.operators[op_id]
         if op.artificial:
@@ -200,16 +201,15 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int]) -> List[Step]:
                               op.certified if last and op.steps else (), k if macro else 0,
                               tuple(a for a in op.args if not is_placeholder(a)) if macro else (),
                               op.roles if macro else (),
-                              tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:])))
+                              tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:], vocabulary)))
     return steps
 
 
 @dataclass
 class Skeleton:
     """One skeleton as the planner holds it: its symbolic plan, its basis steps, their
-    pristine keys, contexts and questions, its place in the order of the search that found it (order,
-    from 1), which search that was (source: 0 the full one, 1 the basis-only one) and the
-    order in which the planner came to know it (number, unique)."""
+    pristine keys, contexts and questions, its place in the search's order (order, from 1)
+    and the order in which the planner came to know it (number, unique)."""
 
     order: int
     plan: List[int]
@@ -217,7 +217,6 @@ class Skeleton:
     pristine: List[Optional[StepKey]]
     contexts: List[Context]
     number: int = 0
-    source: int = 0
     questions: List[Question] = field(default_factory=list)
 
     def __post_init__(self) -> None:

@@ -27,6 +27,7 @@ from scipy.spatial.transform import Rotation
 from ..world.collision import CollisionChecker, body_penetrates
 from ..world.robot import CLOSED
 from ..world.values import Contact
+from .budget import SamplerBudget
 from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_TIP, HAND_UNDERSIDE
 from .interface import SampleRequest, Sampler
@@ -39,15 +40,11 @@ FLARED_COS = 0.5        # ... or below this when no face qualifies (plates, bowl
 UP_COS = 0.2            # tool points whose normal keeps the tool's "up" within this
 BACK = 0.02             # pre-contact: metres further back along n2 (a pull starts beyond the target: every cm costs reach)
 PENETRATION = 1e-3      # deeper than this counts as penetrating (tool vs world)
-BATCH = 32              # target points drawn at a time
-TOOL_POOL = 2048        # tool surface points drawn once per call
-YAWS = 16               # turns of a held tool about the support normal examined per point pair
 FACING_COS = 0.3        # the tool point's normal must face the target's by at least this
 SLIDE = 0.004           # metres between a held tool's underside and the target's support
-POSES_PER_POINT = 2     # tool poses kept per point pair (of those passing the cheap tests)
 MAX_TIP = 0.7           # radians a held tool may be tipped (its far end down) for a contact
-PULL_BIAS = 3.0         # an out-of-reach target's pulls are up to 1 + PULL_BIAS times likelier than pushes away
-IK_RESTARTS = 10        # fewer than IK's default: a failure costs ~70 ms at 30, most are out of reach
+# How many points, turns, poses and IK restarts a proposal or a verification spends:
+# budget.py (SamplerBudget.contact_*).
 
 
 @lru_cache(maxsize=128)
@@ -86,15 +83,16 @@ def support_frame(world: "World", target: str, support: str) -> Tuple[np.ndarray
 
 
 def _arm_reaches(world: "World", gripper: np.ndarray, back: np.ndarray, rng: np.random.Generator,
-                 checker: CollisionChecker) -> bool:
-    """IK for the gripper frame `gripper` (4x4) and for it moved by `back`, both free of
-    collisions (the world's current fingers and held object)."""
+                 checker: CollisionChecker, budget: SamplerBudget = SamplerBudget()) -> bool:
+    """IK for the gripper frame `gripper` (4x4; `budget.contact_ik_restarts` restarts) and,
+    seeded from it, for it moved by `back`, both free of collisions (the world's current
+    fingers and held object)."""
     backed = gripper.copy()
     backed[:3, 3] += back
     if not (world.within_reach(gripper) and world.within_reach(backed)):
         return False
     pose = matrix_pose(gripper)
-    q = world.kinematics.ik(pose[0], pose[1], rng, seed=world.arm(), restarts=IK_RESTARTS)
+    q = world.kinematics.ik(pose[0], pose[1], rng, seed=world.arm(), restarts=budget.contact_ik_restarts)
     if q is None or checker.collides(q):
         return False
     q_pre = world.kinematics.ik(np.add(pose[0], back), pose[1], rng, seed=q)
@@ -143,35 +141,38 @@ def _gripper_frames(p2: np.ndarray, d: np.ndarray, n_s: np.ndarray, level: float
 
 def _tool_poses(world: "World", tool: str, tool_vertices: np.ndarray, p1: np.ndarray, n1: np.ndarray,
                 p2: np.ndarray, n2: np.ndarray, n_s: np.ndarray, level: float, gap: float,
-                tcp_in_tool: np.ndarray, rng: np.random.Generator) -> Tuple[np.ndarray, ...]:
-    """Held-tool poses (4x4) that put tool point p1 `gap` in front of target point p2, the
-    tool turned about the support normal n_s from how it is held now, for half of them also
-    tipped (up to MAX_TIP) so that p1's end of the tool goes down and the hand up, and
-    lowered until its lowest point is SLIDE above the support. Of YAWS turns (random offset),
-    those pass where n1 faces the target, the hand is within reach, and the tool penetrates
-    nothing at the contact nor backed off: a straight tool held diagonally pulls with its
-    tip, a crook with its inner face, whatever the object (no face of the tool must match
-    the target's); tipping a tool held from above moves the wrist back towards the robot,
-    which is what a short tool needs to reach behind a far object."""
+                tcp_in_tool: np.ndarray, rng: np.random.Generator,
+                budget: SamplerBudget = SamplerBudget()) -> Tuple[np.ndarray, ...]:
+    """Up to `budget.contact_poses_per_point` held-tool poses (4x4) that put tool point p1
+    `gap` in front of target point p2, the tool turned about the support normal n_s from how
+    it is held now, for half of them also tipped (up to MAX_TIP) so that p1's end of the tool
+    goes down and the hand up, and lowered until its lowest point is SLIDE above the support.
+    Of `budget.contact_yaws` turns (random offset), those pass where n1 faces the target,
+    the hand is within reach, and the tool penetrates nothing at the contact nor backed
+    off: a straight tool held diagonally pulls with its tip, a crook with its inner face,
+    whatever the object (no face of the tool must match the target's); tipping a tool held
+    from above moves the wrist back towards the robot, which is what a short tool needs to
+    reach behind a far object."""
     now = pose_matrix(world.pose(tool))[:3, :3]
-    yaws = rng.uniform(0.0, 2 * np.pi) + np.arange(YAWS) * 2 * np.pi / YAWS
+    n_yaws = budget.contact_yaws
+    yaws = rng.uniform(0.0, 2 * np.pi) + np.arange(n_yaws) * 2 * np.pi / n_yaws
     turns = Rotation.from_rotvec(yaws[:, None] * n_s).as_matrix() @ now          # (k, 3, 3)
     # Tip about the horizontal axis across the line from the hand to p1 (p1 goes down).
     reach = turns @ (p1 - tcp_in_tool[:3, 3])
     reach -= (reach @ n_s)[:, None] * n_s
     axis = np.cross(n_s, reach)
     axis /= np.maximum(np.linalg.norm(axis, axis=1), 1e-9)[:, None]
-    tips = np.where(rng.random(YAWS) < 0.5, rng.uniform(0.0, MAX_TIP, YAWS), 0.0)
+    tips = np.where(rng.random(n_yaws) < 0.5, rng.uniform(0.0, MAX_TIP, n_yaws), 0.0)
     turns = Rotation.from_rotvec(tips[:, None] * axis).as_matrix() @ turns
     facing = (turns @ n1) @ n2
     lowest = np.min(np.einsum("kij,nj->kni", turns, tool_vertices) @ n_s, axis=1)  # (k,)
-    poses = np.tile(np.eye(4), (YAWS, 1, 1))
+    poses = np.tile(np.eye(4), (n_yaws, 1, 1))
     poses[:, :3, :3] = turns
     offset = p2 + gap * n2 - turns @ p1                                           # (k, 3)
     # Slide the contact point along n_s so the tool's lowest point is SLIDE above the support.
     offset += ((level + SLIDE - lowest) - offset @ n_s)[:, None] * n_s
     poses[:, :3, 3] = offset
-    keep = [k for k in rng.permutation(YAWS) if facing[k] < -FACING_COS and world.within_reach(poses[k] @ tcp_in_tool)]
+    keep = [k for k in rng.permutation(n_yaws) if facing[k] < -FACING_COS and world.within_reach(poses[k] @ tcp_in_tool)]
     found = []
     with world.saved():
         for k in keep:
@@ -183,15 +184,14 @@ def _tool_poses(world: "World", tool: str, tool_vertices: np.ndarray, p1: np.nda
             world.set_pose(tool, matrix_pose(backed))
             if not body_penetrates(world, tool, PENETRATION):
                 found.append(poses[k])
-                if len(found) == POSES_PER_POINT:
+                if len(found) == budget.contact_poses_per_point:
                     break
     return tuple(found)
 
 
 def _toward_robot(world: "World", target: str) -> Optional[np.ndarray]:
     """The horizontal unit vector from `target` towards the robot's shoulder if the hand cannot
-    reach the target from above (else None): an object out of reach is more often pulled
-    than pushed further away (PULL_BIAS), since only pulls can bring it within reach."""
+    reach the target from above (else None)."""
     centre = np.asarray(world.pose(target)[0])
     above = np.eye(4)
     above[:3, :3] = np.diag([1.0, -1.0, -1.0])  # the gripper pointing down
@@ -207,13 +207,15 @@ class ContactSampler(Sampler[ContactCandidate]):
     """C(O1, O2, T_o2, O_s, T_s): the stream's last two inputs are the target and its
     support; the pusher is what the hand holds (the bare gripper when it holds nothing)."""
 
-    budget = 60
     gap = 0.01   # metres between the pusher and the target at first contact
+
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        return budget.contact_proposals
 
     def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                 budget: int) -> Iterator[ContactCandidate]:
         target, support = request.objects()[-2:]
-        return propose_contacts(world, target, support, rng, budget, self.gap)
+        return propose_contacts(world, target, support, rng, budget, self.gap, self.sampler_budget)
 
     def verify(self, world: "World", request: SampleRequest, candidate: ContactCandidate,
                rng: np.random.Generator) -> Optional[Contact]:
@@ -223,7 +225,7 @@ class ContactSampler(Sampler[ContactCandidate]):
             if tool is None:
                 world.set_fingers(CLOSED)
             for pusher, gripper in zip(candidate.pushers, candidate.grippers):
-                if _arm_reaches(world, gripper, candidate.back, rng, checker):
+                if _arm_reaches(world, gripper, candidate.back, rng, checker, self.sampler_budget):
                     target, support = request.objects()[-2:]
                     return Contact(tool, target, support, matrix_pose(pusher),
                                    tuple(float(v) for v in candidate.direction),
@@ -232,18 +234,21 @@ class ContactSampler(Sampler[ContactCandidate]):
 
 
 def propose_contacts(world: "World", target: str, support: str, rng: np.random.Generator, max_points: int,
-                     gap: float = 0.01) -> Iterator[ContactCandidate]:
+                     gap: float = 0.01, budget: SamplerBudget = SamplerBudget()) -> Iterator[ContactCandidate]:
     """Contacts of the held object (or the bare gripper) with the side of `target`, which
     rests on `support`, from geometry alone (no IK): examines at most `max_points` target
-    points (one tool point each when a tool is held)."""
+    points (one tool point each when a tool is held), `budget.contact_batch` at a time.
+    A target the hand cannot reach from above is pulled more often than pushed further away
+    (`budget.contact_pull_bias`): only a pull can bring it within reach."""
     tool = world.attachment.name if world.attachment is not None else None
     target_mesh = body_mesh(world, target)
     if tool is not None:
         tool_mesh = body_mesh(world, tool)
-        tool_points, tool_normals = surface_points(tool_mesh, TOOL_POOL, rng)
+        tool_points, tool_normals = surface_points(tool_mesh, budget.contact_tool_points, rng)
         tool_vertices = np.asarray(tool_mesh.vertices)
         tcp_in_tool = pose_matrix(world.held_tcp_in_object())
     toward = _toward_robot(world, target)
+    bias = budget.contact_pull_bias
     examined = 0
     while examined < max_points:
         # Re-read the scene per batch: the caller may move things between yields.
@@ -256,7 +261,7 @@ def propose_contacts(world: "World", target: str, support: str, rng: np.random.G
         side_cos = SIDE_COS if np.any(tilt < SIDE_COS) else FLARED_COS
         if tool is not None:
             up = pose_matrix(world.pose(tool))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
-        count = min(BATCH, max_points - examined)
+        count = min(budget.contact_batch, max_points - examined)
         examined += count
         local_points, local_normals = surface_points(target_mesh, count, rng)
         points = local_points @ target_pose[:3, :3].T + target_pose[:3, 3]
@@ -266,7 +271,7 @@ def propose_contacts(world: "World", target: str, support: str, rng: np.random.G
                 continue
             d = -(n2 - np.dot(n2, n_s) * n_s)
             d /= np.linalg.norm(d)
-            if toward is not None and rng.random() * (1 + PULL_BIAS) > 1 + PULL_BIAS * max(0.0, float(d @ toward)):
+            if toward is not None and rng.random() * (1 + bias) > 1 + bias * max(0.0, float(d @ toward)):
                 continue
             if tool is None:
                 frames = _gripper_frames(p2, d, n_s, level, top, gap, rng)
@@ -279,18 +284,20 @@ def propose_contacts(world: "World", target: str, support: str, rng: np.random.G
                 continue
             i = int(rng.choice(usable))
             poses = _tool_poses(world, tool, tool_vertices, tool_points[i], tool_normals[i], p2, n2, n_s, level,
-                                gap, tcp_in_tool, rng)
+                                gap, tcp_in_tool, rng, budget)
             if poses:
                 yield ContactCandidate(poses, tuple(pose @ tcp_in_tool for pose in poses), n2 * BACK, p2, d, n2)
 
 
 def sample_contacts(world: "World", target: str, support: str, rng: np.random.Generator,
-                    max_attempts: int = 300, gap: float = 0.01,
-                    deadline: float = float("inf")) -> Iterator[Contact]:
+                    max_attempts: Optional[int] = None, gap: float = 0.01,
+                    deadline: float = float("inf"), budget: SamplerBudget = SamplerBudget()) -> Iterator[Contact]:
     """Reachable, collision-free contacts of the held object (or the bare gripper) with the
-    side of `target`, which rests on `support`; stops after `max_attempts` proposals or at
-    `deadline` (time.perf_counter()). The world is left as found."""
-    sampler = ContactSampler()
+    side of `target`, which rests on `support`; stops after `max_attempts` proposals
+    (default `budget.sample_attempts`) or at `deadline` (time.perf_counter()). The world is
+    left as found."""
+    sampler = ContactSampler(budget)
     sampler.gap = gap
     request = SampleRequest("sample-contact", (target, support), ("?y", "?s"), deadline=deadline)
-    return sampler.draw(world, request, rng, budget=max_attempts)
+    limit = budget.sample_attempts if max_attempts is None else max_attempts
+    return sampler.draw(world, request, rng, budget=limit)

@@ -23,6 +23,7 @@ import trimesh
 from ..world.collision import CollisionChecker
 from ..world.robot import MAX_OPENING, grasp_opening
 from ..world.values import Grasp, Pose
+from .budget import SamplerBudget
 from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_SPAN, FINGER_THICKNESS, HAND_BOX
 from .interface import SampleRequest, Sampler
@@ -36,12 +37,8 @@ MIN_WIDTH, MAX_WIDTH = 0.002, 0.075   # a 3 mm sheet can be pinched; the fingers
 PRE_GRASP = 0.08        # metres back along -approach
 MAX_UP = 0.3            # largest world z-component of the approach: none from below
 INSIDE = 1e-4           # ray origins start this far inside the surface
-BATCH = 32              # surface points per ray-casting batch
-ANGLES = 12             # approach angles about the closing axis examined per pair
-POINTS_PER_ATTEMPT = 6  # surface points examined per allowed proposal, however few pass
-# IK restarts for a candidate: a hard pose is dropped, drawing another candidate is cheaper
-# (10 restarts keep ~92 % of the poses 30 find, in about half the time).
-IK_RESTARTS = 10
+# How many points, angles and IK restarts a proposal or a verification spends: budget.py
+# (SamplerBudget.grasp_*).
 
 
 def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
@@ -69,23 +66,21 @@ def _partners(mesh: trimesh.Trimesh, p1: np.ndarray, n1: np.ndarray) -> Tuple[np
     return ok, p2, n2
 
 
-POOL_POINTS = 4096      # surface points of an object whose antipodal partners are found once
-
-
 class AntipodalPool:
-    """POOL_POINTS surface points of a shape (object frame), drawn once per shape (seed 0),
-    and their antipodal partners. Pairs do not depend on where the object is, and finding
-    them (a ray through the mesh per point) was a tenth of a Lever plan; proposals draw
-    points from this pool instead. A point's partner is found the first time a proposal
-    draws it: a plan that needs one grasp of a box draws a few hundred of the points, and
-    casting all 4096 rays up front cost 70-150 ms a shape (a box, a ladle; 300: 6-8 ms)."""
+    """`size` surface points of a shape (object frame; SamplerBudget.grasp_pool_points),
+    drawn once per shape (seed 0), and their antipodal partners. Pairs do not depend on
+    where the object is, and finding them (a ray through the mesh per point) was a tenth of
+    a Lever plan; proposals draw points from this pool instead. A point's partner is found
+    the first time a proposal draws it: a plan that needs one grasp of a box draws a few
+    hundred of the points, and casting all 4096 rays up front cost 70-150 ms a shape (a
+    box, a ladle; 300: 6-8 ms)."""
 
-    def __init__(self, mesh: trimesh.Trimesh):
-        self.mesh = mesh
-        self.p1, self.n1 = sample_surface(mesh, POOL_POINTS, np.random.default_rng(0))
-        self.known = np.zeros(POOL_POINTS, dtype=bool)
-        self.has_pair = np.zeros(POOL_POINTS, dtype=bool)
-        self.p2 = np.zeros((POOL_POINTS, 3))
+    def __init__(self, mesh: trimesh.Trimesh, size: int):
+        self.mesh, self.size = mesh, size
+        self.p1, self.n1 = sample_surface(mesh, size, np.random.default_rng(0))
+        self.known = np.zeros(size, dtype=bool)
+        self.has_pair = np.zeros(size, dtype=bool)
+        self.p2 = np.zeros((size, 3))
         self.rays = 0   # rays cast so far (tests)
 
     def pairs(self, drawn: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -99,10 +94,16 @@ class AntipodalPool:
         return self.p1[drawn], self.p2[drawn]
 
 
+def antipodal_pool(mesh: trimesh.Trimesh, budget: SamplerBudget = SamplerBudget()) -> AntipodalPool:
+    """The shape's pool of `budget.grasp_pool_points` points (shared by every proposal of
+    the process that asks for that size)."""
+    return _antipodal_pool(mesh, budget.grasp_pool_points)
+
+
 @lru_cache(maxsize=64)
-def antipodal_pool(mesh: trimesh.Trimesh) -> AntipodalPool:
-    """The shape's pool (shared by every proposal of the process)."""
-    return AntipodalPool(mesh)
+def _antipodal_pool(mesh: trimesh.Trimesh, size: int) -> AntipodalPool:
+    # Keyed by the size alone, not the whole budget: budgets differing elsewhere share pools.
+    return AntipodalPool(mesh, size)
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -142,12 +143,14 @@ def offset_along_z(pose: Pose, distance: float) -> Pose:
 
 
 def grasp_configurations(world: "World", grasp: Grasp, rng: np.random.Generator,
-                         check_collisions: bool = True) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+                         check_collisions: bool = True, budget: SamplerBudget = SamplerBudget()
+                         ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     """(pre-grasp, grasp) arm configurations for `grasp` at the object's current pose, or
-    None if either has no IK or (with `check_collisions`) touches anything, fingers open."""
+    None if either has no IK (`budget.grasp_ik_restarts` restarts each) or (with
+    `check_collisions`) touches anything, fingers open."""
     kin = world.kinematics
     target = world_grasp_pose(world, grasp)
-    q = kin.ik(target[0], target[1], rng, restarts=IK_RESTARTS)
+    q = kin.ik(target[0], target[1], rng, restarts=budget.grasp_ik_restarts)
     if q is None:
         return None
     checker = CollisionChecker(world) if check_collisions else None
@@ -159,7 +162,7 @@ def grasp_configurations(world: "World", grasp: Grasp, rng: np.random.Generator,
         # Seeded: the retreat is a short straight line. A pre-grasp the seeded solve misses lies
         # at the edge of reach, and as few restarts as for the grasp suffice: with IK's default
         # 30 these failures took a fifth of a CoM plan (5 of 17 grasps verified, 28 ms each).
-        q_pre = kin.ik(pre[0], pre[1], rng, seed=q, restarts=IK_RESTARTS)
+        q_pre = kin.ik(pre[0], pre[1], rng, seed=q, restarts=budget.grasp_ik_restarts)
         if q_pre is None or (checker is not None and checker.collides(q_pre)):
             return None
     return q_pre, q
@@ -259,9 +262,11 @@ def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
 
 
 def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray, p1s: np.ndarray,
-                     p2s: np.ndarray, heights: SupportHeights, rng: np.random.Generator) -> List[np.ndarray]:
-    """For each antipodal pair (p1s[k], p2s[k], (n, 3) arrays), the gripper frames (object frame, (k, 4, 4)) at ANGLES
-    approach angles (random offset) that pass the cheap tests, before any IK: the approach is
+                     p2s: np.ndarray, heights: SupportHeights, rng: np.random.Generator,
+                     budget: SamplerBudget = SamplerBudget()) -> List[np.ndarray]:
+    """For each antipodal pair (p1s[k], p2s[k], (n, 3) arrays), the gripper frames (object
+    frame, (k, 4, 4)) at `budget.grasp_angles` approach angles (random offset) that pass the
+    cheap tests, before any IK: the approach is
     not from below, the flange is within reach, no part of the gripper low down sits less
     than SUPPORT_CLEARANCE above another body's surface (the support, `heights`: points of a
     grid over the gripper), and no point of the object's surface is inside the open gripper.
@@ -271,12 +276,13 @@ def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray, 
     fingertips and the fingers against the support (_EARLY_SUPPORT_TESTS)."""
     if not len(p1s):
         return []
+    angles = budget.grasp_angles
     offsets = rng.uniform(-np.pi, np.pi, len(p1s))
     openings = np.array([grasp_opening(float(width)) for width in np.linalg.norm(p2s - p1s, axis=1)])
-    frames = gripper_frames(p1s, p2s, offsets[:, None] + np.arange(ANGLES) * 2 * np.pi / ANGLES)
+    frames = gripper_frames(p1s, p2s, offsets[:, None] + np.arange(angles) * 2 * np.pi / angles)
     in_world = placed @ frames
     reachable = world.within_reach_all(in_world.reshape(-1, 4, 4)).reshape(frames.shape[:2])
-    keep = (in_world[..., 2, 2] <= MAX_UP) & reachable                      # (pairs, ANGLES)
+    keep = (in_world[..., 2, 2] <= MAX_UP) & reachable                      # (pairs, angles)
     for points_of in _EARLY_SUPPORT_TESTS:
         _drop_on_support(keep, in_world, openings, points_of, heights)
     # Only surface points within the gripper's reach of a pair's midpoint can be inside it;
@@ -329,51 +335,56 @@ _HEIGHTS: "weakref.WeakKeyDictionary[World, Dict[Tuple[str, tuple], Tuple[np.nda
     weakref.WeakKeyDictionary()
 
 
-def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_points: int) -> Iterator[Grasp]:
+def propose_grasps(world: "World", obj: str, rng: np.random.Generator, max_points: int,
+                   budget: SamplerBudget = SamplerBudget()) -> Iterator[Grasp]:
     """Geometrically plausible grasps of `obj` at its current pose (no IK, no collision
-    checks); examines at most `max_points` surface points."""
+    checks); examines at most `max_points` surface points, `budget.grasp_batch` at a time."""
     mesh = body_mesh(world, obj)
     examined = 0
     scene, heights = None, None
-    pool = antipodal_pool(mesh)
+    pool = antipodal_pool(mesh, budget)
     while examined < max_points:
-        count = min(BATCH, max_points - examined)
+        count = min(budget.grasp_batch, max_points - examined)
         examined += count
         now = _scene(world)
         if now != scene:  # the caller may move things between batches
             scene = now
             placed, heights = _support_heights(world, obj, mesh, scene)
-        p1s, p2s = pool.pairs(rng.integers(POOL_POINTS, size=count))
-        for p1, p2, frames in zip(p1s, p2s, _approach_frames(world, mesh, placed, p1s, p2s, heights, rng)):
+        p1s, p2s = pool.pairs(rng.integers(pool.size, size=count))
+        for p1, p2, frames in zip(p1s, p2s, _approach_frames(world, mesh, placed, p1s, p2s, heights, rng, budget)):
             if len(frames):
                 frame = frames[int(rng.integers(len(frames)))]
                 yield Grasp(obj, matrix_pose(frame), float(np.linalg.norm(p2 - p1)),
                             (tuple(float(v) for v in p1), tuple(float(v) for v in p2)))
 
 
-def verify_grasp(world: "World", grasp: Grasp, rng: np.random.Generator) -> bool:
+def verify_grasp(world: "World", grasp: Grasp, rng: np.random.Generator,
+                 budget: SamplerBudget = SamplerBudget()) -> bool:
     """The arm reaches the grasp and its pre-grasp without touching anything."""
-    return grasp_configurations(world, grasp, rng) is not None
+    return grasp_configurations(world, grasp, rng, budget=budget) is not None
 
 
 class GraspSampler(Sampler[Grasp]):
     """The stream's first input is the object to grasp; proposals have already passed the
     cheap geometric tests, so fewer are verified per visit than for other samplers."""
 
-    budget = 60
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        return budget.grasp_proposals
 
     def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                 budget: int) -> Iterator[Grasp]:
-        return propose_grasps(world, request.objects()[0], rng, POINTS_PER_ATTEMPT * budget)
+        points = self.sampler_budget.grasp_points_per_proposal * budget
+        return propose_grasps(world, request.objects()[0], rng, points, self.sampler_budget)
 
     def verify(self, world: "World", request: SampleRequest, grasp: Grasp, rng: np.random.Generator) -> Optional[Grasp]:
-        return grasp if verify_grasp(world, grasp, rng) else None
+        return grasp if verify_grasp(world, grasp, rng, self.sampler_budget) else None
 
 
-def sample_grasps(world: "World", obj: str, rng: np.random.Generator, max_attempts: int = 300,
-                  deadline: float = float("inf")) -> Iterator[Grasp]:
+def sample_grasps(world: "World", obj: str, rng: np.random.Generator, max_attempts: Optional[int] = None,
+                  deadline: float = float("inf"), budget: SamplerBudget = SamplerBudget()) -> Iterator[Grasp]:
     """Reachable, collision-free antipodal grasps of `obj` at its current pose; stops after
-    `max_attempts` proposals (or POINTS_PER_ATTEMPT times as many surface points) or at
-    `deadline` (time.perf_counter())."""
+    `max_attempts` proposals (default `budget.sample_attempts`; `grasp_points_per_proposal`
+    times as many surface points) or at `deadline` (time.perf_counter())."""
     request = SampleRequest("sample-grasp", (obj,), ("?x",), deadline=deadline)
-    return GraspSampler().draw(world, request, rng, budget=max_attempts)
+    limit = budget.sample_attempts if max_attempts is None else max_attempts
+    return GraspSampler(budget).draw(world, request, rng, budget=limit)

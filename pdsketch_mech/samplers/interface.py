@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Callable, Generic, Iterator, Mapping, Optional
 import numpy as np
 
 from ..world.values import Pose
+from .budget import SamplerBudget
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -83,11 +84,23 @@ class SampleRequest:
 class Sampler(Generic[Candidate]):
     """A generic sampler: cheap proposals, expensive verification.
 
-    `budget` is how many proposals one visit of a step verifies at most: the adaptive
-    planner revisits steps, so a modest budget that fails fast beats an exhaustive one."""
+    `sampler_budget` holds every search budget the sampler reads (budget.py); `budget` is
+    how many proposals one visit of a step verifies at most, the field of it that is this
+    sampler's (`visit_budget`)."""
 
-    budget: int = 120
+    # Class-level defaults, for subclasses whose __init__ does not call this one's.
+    sampler_budget: SamplerBudget = SamplerBudget()
+    budget: int = SamplerBudget().proposals
     examined: int = 0   # proposals verified so far (statistics: samples drawn from this sampler)
+
+    def __init__(self, budget: SamplerBudget = SamplerBudget()):
+        self.sampler_budget = budget
+        self.budget = self.visit_budget(budget)
+
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        """Proposals one visit verifies at most, read from `budget` (`proposals` unless a
+        sampler has a field of its own)."""
+        return budget.proposals
 
     def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                 budget: int) -> Iterator[Candidate]:

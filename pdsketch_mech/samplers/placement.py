@@ -19,8 +19,8 @@ from scipy.spatial.transform import Rotation
 from ..world.collision import CollisionChecker, PENETRATION, body_penetration
 from ..world.contacts import read_contacts
 from ..world.values import Placement, Pose
+from .budget import SamplerBudget
 from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
-from .grasp import IK_RESTARTS
 from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
@@ -30,7 +30,7 @@ GAP = 0.002          # metres between the resting face and the support plane
 PRE_PLACE = 0.08     # metres above the placement (world z)
 SINK = 0.001         # deeper penetration of the object at the placement pose rejects it
 RISE = 0.03          # metres a placement may be raised onto relief (rest_on_relief)
-RISE_STEPS = 6
+# How many raises and IK restarts a placement may cost: budget.py (SamplerBudget.placement_*).
 
 Facet = Tuple[np.ndarray, np.ndarray, float]  # outward normal, centre, area (object frame)
 
@@ -78,9 +78,10 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
 
 
 def rest_on_relief(world: "World", obj: str, support: str, pose: Pose, surface_z: float,
-                   holders: Sequence[str] = ()) -> Optional[Pose]:
-    """`pose`, raised (world z, at most RISE) until `obj` no longer sinks into `support` or
-    into `holders` above `surface_z`, or None if it sinks into anything else or needs more.
+                   holders: Sequence[str] = (), budget: SamplerBudget = SamplerBudget()) -> Optional[Pose]:
+    """`pose`, raised (world z, at most RISE, in at most `budget.placement_rise_steps`
+    raises) until `obj` no longer sinks into `support` or into `holders` above `surface_z`,
+    or None if it sinks into anything else or needs more.
     A resting face is put on the plane through one surface point of the support (at height
     `surface_z`); where the support is not flat under the whole face (a dish's rim under a
     box's end, a bowl's wall) the object rests on that relief instead, tilted once released
@@ -92,7 +93,7 @@ def rest_on_relief(world: "World", obj: str, support: str, pose: Pose, surface_z
     position, orientation = np.asarray(pose[0], dtype=float), tuple(pose[1])
     relief = {world.bodies[name].id: surface_z - GAP for name in holders}
     relief[world.bodies[support].id] = -np.inf
-    for _ in range(RISE_STEPS):
+    for _ in range(budget.placement_rise_steps):
         world.set_pose(obj, (tuple(position), orientation))
         depth = body_penetration(world, obj, relief)
         if depth is None:
@@ -110,8 +111,8 @@ def fixed_holders(world: "World", support: str) -> List[str]:
     return [name for name in read_contacts(world).supports_of(support) if world.bodies[name].fixed]
 
 
-def placement_configurations(world: "World", placement: Placement, rng: np.random.Generator
-                             ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+def placement_configurations(world: "World", placement: Placement, rng: np.random.Generator,
+                             budget: SamplerBudget = SamplerBudget()) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     """(pre-place, place) arm configurations holding the object at `placement.pose` with the
     current grasp, or None if either has no IK or collides. Only the held object may touch
     the support: the arm may not, and neither may touch anything else. (How deep the object
@@ -122,7 +123,7 @@ def placement_configurations(world: "World", placement: Placement, rng: np.rando
     tcp = p.multiplyTransforms(*placement.pose, *world.held_tcp_in_object())
     if not world.within_reach(pose_matrix(tcp)):  # spares IK's failing restarts (~10 ms)
         return None
-    q = kin.ik(tcp[0], tcp[1], rng, seed=world.arm(), restarts=IK_RESTARTS)
+    q = kin.ik(tcp[0], tcp[1], rng, seed=world.arm(), restarts=budget.placement_ik_restarts)
     if q is None:
         return None
     held_id, support_id = world.bodies[held.name].id, world.bodies[placement.support].id
@@ -143,20 +144,22 @@ def placement_configurations(world: "World", placement: Placement, rng: np.rando
 
 class PlacementSampler(Sampler[Placement]):
     """P(O1, O2, T_o2): the stream's inputs are the held object and the support. Proposals
-    do not sink into anything; verifying asks IK and the collision checker."""
+    do not sink into anything; verifying asks IK and the collision checker. A visit verifies
+    `SamplerBudget.proposals` proposals at most."""
 
     def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                 budget: int) -> Iterator[Placement]:
         obj, support = request.objects()[:2]
-        return propose_placements(world, obj, support, rng, budget)
+        return propose_placements(world, obj, support, rng, max_draws=budget, budget=self.sampler_budget)
 
     def verify(self, world: "World", request: SampleRequest, candidate: Placement,
                rng: np.random.Generator) -> Optional[Placement]:
-        return candidate if placement_configurations(world, candidate, rng) is not None else None
+        feasible = placement_configurations(world, candidate, rng, self.sampler_budget) is not None
+        return candidate if feasible else None
 
 
 def propose_placements(world: "World", obj: str, support: str, rng: np.random.Generator, max_draws: int,
-                       up_cos: float = 0.85) -> Iterator[Placement]:
+                       up_cos: float = 0.85, budget: SamplerBudget = SamplerBudget()) -> Iterator[Placement]:
     """Poses of the held `obj` resting on `support`'s upward faces that sink into nothing
     (no IK); examines at most `max_draws` (surface point, facet, twist) draws."""
     if world.attachment is None or world.attachment.name != obj:
@@ -182,15 +185,18 @@ def propose_placements(world: "World", obj: str, support: str, rng: np.random.Ge
         # The only check of the object against the support itself (a point on a bowl's floor
         # by its wall would otherwise put the object in the wall).
         with world.saved():
-            pose = rest_on_relief(world, obj, support, matrix_pose(matrix), float(point[2]), holders)
+            pose = rest_on_relief(world, obj, support, matrix_pose(matrix), float(point[2]), holders, budget)
         if pose is None:
             continue
         yield Placement(obj, support, pose, tuple(float(v) for v in support_normal))
 
 
 def sample_placements(world: "World", obj: str, support: str, rng: np.random.Generator,
-                      max_attempts: int = 300, deadline: float = float("inf")) -> Iterator[Placement]:
+                      max_attempts: Optional[int] = None, deadline: float = float("inf"),
+                      budget: SamplerBudget = SamplerBudget()) -> Iterator[Placement]:
     """Collision-free, reachable placements of the held `obj` on `support`'s upward faces;
-    stops after `max_attempts` proposals or at `deadline` (time.perf_counter())."""
+    stops after `max_attempts` proposals (default `budget.sample_attempts`) or at
+    `deadline` (time.perf_counter())."""
     request = SampleRequest("sample-placement", (obj, support), ("?x", "?s"), deadline=deadline)
-    return PlacementSampler().draw(world, request, rng, budget=max_attempts)
+    limit = budget.sample_attempts if max_attempts is None else max_attempts
+    return PlacementSampler(budget).draw(world, request, rng, budget=limit)

@@ -14,9 +14,10 @@ import numpy as np
 import pybullet as p
 
 from ..world.attachment import compose
-from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, MAX_CHECKS, cartesian_path, path_collision, plan_motion
+from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, cartesian_path, path_collision, plan_motion
 from ..world.robot import grasp_opening
 from ..world.values import Contact, Grasp, Placement, Pose, Trajectory, approach_axis
+from .budget import SamplerBudget
 from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
@@ -29,10 +30,11 @@ BACK_OFF = 0.02           # metres a push starts behind first contact (as the co
 
 def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], final_distance: float,
             rng: np.random.Generator, kind: str, ignore: Sequence[str] = (),
-            push_distance: Optional[float] = None) -> Optional[Trajectory]:
-    """RRT to `goal_tcp` moved back by `final_distance` along `final_direction`, then the
-    straight segment forward (from the pre-pose, included). The straight segment of a grasp
-    or a placement is collision-checked here, as executed; a push's is simulated instead."""
+            push_distance: Optional[float] = None, budget: SamplerBudget = SamplerBudget()) -> Optional[Trajectory]:
+    """RRT (at most `budget.motion_checks` collision checks) to `goal_tcp` moved back by
+    `final_distance` along `final_direction`, then the straight segment forward (from the
+    pre-pose, included). The straight segment of a grasp or a placement is collision-checked
+    here, as executed; a push's is simulated instead."""
     direction = np.asarray(final_direction, dtype=float)
     direction /= np.linalg.norm(direction)
     pre = (tuple(np.asarray(goal_tcp[0]) - direction * final_distance), goal_tcp[1])
@@ -41,7 +43,8 @@ def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], fi
     q_pre = world.kinematics.ik(pre[0], pre[1], rng, seed=start, pos_tol=LINE_POS_TOL, ang_tol=LINE_ANG_TOL)
     if q_pre is None:
         return None
-    result = plan_motion(world, start, q_pre, ignore=ignore, seed=int(rng.integers(1 << 30)))
+    result = plan_motion(world, start, q_pre, ignore=ignore, max_checks=budget.motion_checks,
+                         seed=int(rng.integers(1 << 30)))
     if result.path is None:
         return None
     final = cartesian_path(world, q_pre, direction, final_distance + (push_distance or 0.0), rng)
@@ -52,84 +55,93 @@ def _motion(world: "World", goal_tcp: Pose, final_direction: Sequence[float], fi
     return Trajectory(kind, result.path, final, push_distance=push_distance)
 
 
-def grasp_motion(world: "World", obj: str, grasp: Grasp, rng: np.random.Generator) -> Optional[Trajectory]:
+def grasp_motion(world: "World", obj: str, grasp: Grasp, rng: np.random.Generator,
+                 budget: SamplerBudget = SamplerBudget()) -> Optional[Trajectory]:
     """To the pre-grasp, then along the approach axis to the grasp, the fingers open to the
     grasp's opening (as the grasp operator opens them before it moves)."""
     tcp = compose(world.pose(obj), grasp.in_object)
     with world.saved():
         world.set_fingers(grasp_opening(grasp.width) / 2)
-        return _motion(world, tcp, approach_axis(tcp), PRE_DISTANCE, rng, "grasp")
+        return _motion(world, tcp, approach_axis(tcp), PRE_DISTANCE, rng, "grasp", budget=budget)
 
 
-def place_motion(world: "World", placement: Placement, rng: np.random.Generator) -> Optional[Trajectory]:
+def place_motion(world: "World", placement: Placement, rng: np.random.Generator,
+                 budget: SamplerBudget = SamplerBudget()) -> Optional[Trajectory]:
     """Carrying the held object to above the placement, then down along the support normal."""
     tcp = compose(placement.pose, world.held_tcp_in_object())
     down = -np.asarray(placement.support_normal, dtype=float)
-    return _motion(world, tcp, down, PRE_DISTANCE, rng, "place")
+    return _motion(world, tcp, down, PRE_DISTANCE, rng, "place", budget=budget)
 
 
 def push_motion(world: "World", contact: Contact, rng: np.random.Generator,
-                distance: Optional[float] = None) -> Optional[Trajectory]:
+                distance: Optional[float] = None, budget: SamplerBudget = SamplerBudget()) -> Optional[Trajectory]:
     """To just behind first contact, then along the push direction by `distance` past
     first contact (default: d ~ U[0.05, 0.25] m)."""
     tcp = contact.pusher_pose if contact.pusher is None else compose(contact.pusher_pose, world.held_tcp_in_object())
     if distance is None:
         distance = float(rng.uniform(*PUSH_RANGE))
-    return _motion(world, tcp, contact.direction, BACK_OFF, rng, "push", push_distance=distance)
+    return _motion(world, tcp, contact.direction, BACK_OFF, rng, "push", push_distance=distance, budget=budget)
 
 
 def free_motion(world: "World", rng: np.random.Generator, kind: str = "free",
-                max_attempts: int = 20) -> Optional[Trajectory]:
-    """To a random collision-free configuration with the gripper above the table."""
-    sampler = FreeMotionSampler(kind)
-    return next(sampler.draw(world, SampleRequest(f"plan-{kind}-motion", (), ()), rng, budget=max_attempts), None)
+                max_attempts: Optional[int] = None, budget: SamplerBudget = SamplerBudget()) -> Optional[Trajectory]:
+    """To a random collision-free configuration with the gripper above the table, trying at
+    most `max_attempts` targets (default `budget.free_motion_proposals`)."""
+    sampler = FreeMotionSampler(kind, budget)
+    request = SampleRequest(f"plan-{kind}-motion", (), ())
+    return next(sampler.draw(world, request, rng, budget=max_attempts), None)
 
 
 class GraspMotionSampler(Sampler[Grasp]):
     """The motion to a grasp (stream inputs: the object and the grasp); one plan per grasp."""
 
-    budget = 1
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        return 1   # the grasp's own motion is the one proposal: not a budget
 
     def propose(self, world, request, rng, budget) -> Iterator[Grasp]:
         yield request.values()[0]
 
     def verify(self, world, request, grasp, rng) -> Optional[Trajectory]:
-        return grasp_motion(world, request.objects()[0], grasp, rng)
+        return grasp_motion(world, request.objects()[0], grasp, rng, self.sampler_budget)
 
 
 class PlaceMotionSampler(Sampler[Placement]):
     """The motion to a placement (stream inputs end with the placement); one plan each."""
 
-    budget = 1
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        return 1   # the placement's own motion is the one proposal: not a budget
 
     def propose(self, world, request, rng, budget) -> Iterator[Placement]:
         yield request.values()[0]
 
     def verify(self, world, request, placement, rng) -> Optional[Trajectory]:
-        return place_motion(world, placement, rng)
+        return place_motion(world, placement, rng, self.sampler_budget)
 
 
 class PushMotionSampler(Sampler[float]):
     """A push from a contact (the stream's input): proposes how far past first contact."""
 
-    budget = 1
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        return budget.push_proposals
 
     def propose(self, world, request, rng, budget) -> Iterator[float]:
         for _ in range(budget):
             yield float(rng.uniform(*PUSH_RANGE))
 
     def verify(self, world, request, distance, rng) -> Optional[Trajectory]:
-        return push_motion(world, request.values()[0], rng, distance)
+        return push_motion(world, request.values()[0], rng, distance, self.sampler_budget)
 
 
 class FreeMotionSampler(Sampler[Pose]):
     """A move of the arm (empty, or holding what it holds) to a random pose with the
     gripper pointing down above the table: proposes the pose, verifies by IK and RRT."""
 
-    budget = 20
-
-    def __init__(self, kind: str = "free"):
+    def __init__(self, kind: str = "free", budget: SamplerBudget = SamplerBudget()):
+        super().__init__(budget)
         self.kind = kind
+
+    def visit_budget(self, budget: SamplerBudget) -> int:
+        return budget.free_motion_proposals
 
     def propose(self, world, request, rng, budget) -> Iterator[Pose]:
         for _ in range(budget):
@@ -140,5 +152,6 @@ class FreeMotionSampler(Sampler[Pose]):
         q = world.kinematics.ik(target[0], target[1], rng, seed=world.arm())
         if q is None:
             return None
-        result = plan_motion(world, world.arm(), q, max_checks=MAX_CHECKS // 2, seed=int(rng.integers(1 << 30)))
+        result = plan_motion(world, world.arm(), q, max_checks=self.sampler_budget.free_motion_checks,
+                             seed=int(rng.integers(1 << 30)))
         return Trajectory(self.kind, result.path) if result.path is not None else None

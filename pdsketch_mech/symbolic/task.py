@@ -45,6 +45,12 @@ class Operator:
     def label(self) -> str:
         return f"({' '.join((self.name,) + self.args)})"
 
+    @property
+    def cost(self) -> int:
+        """What the operator costs a plan: a mechanism what its basis steps cost, so that a
+        plan with mechanisms is never cheaper than the same steps written out."""
+        return len(self.steps) or 1
+
 
 def bits(mask: int) -> List[int]:
     """The ids of the set bits of `mask`, ascending."""

@@ -1,18 +1,19 @@
 """A mechanism's learned samplers at planning time: rank what a generic sampler draws.
 
 For a mechanism step whose parameter has a classifier, the step's stream takes a batch of
-BATCH proposals from its generic sampler (a checkpoint of values only: a pool of verified
-values, RankedSampler says why), scores the batch in one forward pass in the step's context
-(the mechanism's objects where they are now, the values its earlier steps drew), and goes
-through it best first (walk.py). A share of the walk (EXPLORE) takes one at random
-from the rest instead, and a rest far below the best is topped up with a fresh batch
-first. The ranking reorders, it never removes: a visit verifies the batch until its budget
-ends, and the next visit draws new proposals, so the planner stays as complete as with the
-generic sampler.
-A proposer that runs dry before the batch is full is called again (REFILLS): a batch of the
-two contacts one call finds leaves the classifier nothing to choose. A visit still verifies
-no more proposals than that first call found, as the generic draw would: the refills widen the
-choice, they do not make a visit that cannot succeed cost more.
+`learned_batch` proposals from its generic sampler (a checkpoint of values only: a pool of
+`learned_pool` verified values, RankedSampler says why), scores the batch in one forward
+pass in the step's context (the mechanism's objects where they are now, the values its
+earlier steps drew), and goes through it best first (walk.py). A share of the walk
+(`learned_explore`) takes one at random from the rest instead, and a rest far below the best
+is topped up with a fresh batch first. (Names in backquotes are fields of the sampler's
+`SamplerBudget`, ../budget.py.) The ranking reorders, it never removes: a visit verifies the
+batch until its budget ends, and the next visit draws new proposals, so the planner stays as
+complete as with the generic sampler.
+A proposer that runs dry before the batch is full is called again (`learned_refills`): a
+batch of the two contacts one call finds leaves the classifier nothing to choose. A visit
+still verifies no more proposals than that first call found, as the generic draw would: the
+refills widen the choice, they do not make a visit that cannot succeed cost more.
 
 A batch is small on purpose. The best of many proposals by a classifier's score is the one
 it overrates most (the optimizer's curse), all the more on a shape it never saw
@@ -26,8 +27,8 @@ in the generic order instead.
 
 A classifier is not asked where it would extrapolate: when a fixed object it reads (a slope,
 a ledge: the layout) stands where its training never had one (x or y more than
-EXTRAPOLATION_Z standard deviations, at least MIN_SPREAD each, from the mean of its training
-inputs), the step draws from the generic sampler as it is. A fixed object's place varies
+`learned_extrapolation_z` standard deviations, at least MIN_SPREAD each, from the mean of its
+training inputs), the step draws from the generic sampler as it is. A fixed object's place varies
 only with the task distribution's layout noise, so a classifier cannot have learnt how
 values relate to it anywhere else; a movable object was seen wherever the mechanism's steps
 and the task's starts put it, and other shapes and sizes where training had its objects are
@@ -47,6 +48,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, Iterator, List,
 import numpy as np
 
 from ...util.disk_cache import content_key, load_arrays, store_arrays
+from ..budget import SamplerBudget
 from ..interface import SampleRequest, Sampler
 from .checkpoint import context_count, load_numpy
 from .context import context_objects
@@ -61,14 +63,12 @@ if TYPE_CHECKING:
     from ...lang.nodes import Mechanism
     from ...world.world import World
 
-BATCH = 16        # proposals scored together (see above: not more)
-POOL = 8          # verified values scored together (grasps, contacts, placements)
-EXPLORE = 0.2     # chance that the next proposal verified is a random one rather than the best left,
-                  # while the plan has no evidence that random ones do better (trust.py)
-PENDING = 1024    # yielded values awaiting their step's outcome, at most
-REFILLS = 8       # further calls of a generic proposer that ran dry before a batch was full
-EXTRAPOLATION_Z = 10.0   # a fixed object this many standard deviations from training (x or y): generic order
-MIN_SPREAD = 0.01        # metres: the least standard deviation assumed (a table never moved has none)
+# Metres: the least standard deviation of a fixed object's training positions assumed (a
+# table never moved has none). Not a budget (SamplerBudget holds those): it spends no work
+# and trades none, it says how precisely any layout is reproduced, a fact of the world like
+# the samplers' geometry; how far out a classifier is still trusted is
+# `learned_extrapolation_z`'s to say.
+MIN_SPREAD = 0.01
 
 
 class LearnedMechanism:
@@ -124,17 +124,18 @@ class LearnedMechanism:
         self.score_seconds.append(time.perf_counter() - started - sum(self.shape_seconds[embedded:]))
         return out
 
-    def extrapolates(self, world: "World", request: SampleRequest, variable: str) -> Optional[str]:
+    def extrapolates(self, world: "World", request: SampleRequest, variable: str,
+                     budget: SamplerBudget = SamplerBudget()) -> Optional[str]:
         """The first fixed object the classifier of `variable` reads that stands where its
-        training never had one (x or y more than EXTRAPOLATION_Z standard deviations, at least
-        MIN_SPREAD, from the training mean), or None."""
+        training never had one (x or y more than `budget.learned_extrapolation_z` standard
+        deviations, at least MIN_SPREAD, from the training mean), or None."""
         classifier = self.model.classifier(variable)
         for slot, name in enumerate(self.objects(world, request)):
             if not world.bodies[name].fixed:
                 continue
             mean, std = classifier.position_statistics(slot)
             z = np.abs((np.asarray(world.pose(name)[0][:2]) - mean) / np.maximum(std, MIN_SPREAD))
-            if float(z.max()) > EXTRAPOLATION_Z:
+            if float(z.max()) > budget.learned_extrapolation_z:
                 return name
         return None
 
@@ -181,20 +182,23 @@ class RankedSampler(Sampler):
     """A generic sampler whose values are yielded in the order a classifier ranks them.
 
     Two ways, by what the classifier was trained on. A classifier of proposals (self-play
-    logs the proposals that fail verification too) scores BATCH raw proposals by the
-    probability that they verify and are used, and they are verified best first: fewer
+    logs the proposals that fail verification too) scores `learned_batch` raw proposals by
+    the probability that they verify and are used, and they are verified best first: fewer
     verified and fewer simulated. A classifier of values only (checkpoints of schema /1)
     has never seen an unreachable grasp and may rank one first: grasps, contacts and
-    placements then verify proposals in the generic order until POOL values are found and
-    yield the pool best first; a push's distance, which nearly always verifies, is ranked
-    as a proposal either way."""
+    placements then verify proposals in the generic order until `learned_pool` values are
+    found and yield the pool best first; a push's distance, which nearly always verifies, is
+    ranked as a proposal either way. `budget` (a SamplerBudget) holds these sizes; how many
+    proposals a visit verifies is the generic sampler's."""
 
-    def __init__(self, generic: Sampler, learned: LearnedMechanism, variable: str, pool: Optional[int] = None):
+    def __init__(self, generic: Sampler, learned: LearnedMechanism, variable: str, pool: Optional[int] = None,
+                 budget: SamplerBudget = SamplerBudget()):
         self.generic, self.learned, self.variable = generic, learned, variable
-        self.budget = generic.budget
+        self.sampler_budget = budget
+        self.budget = generic.budget   # proposals verified per visit: the generic sampler's
         if pool is None:
             classifier = learned.model.classifier(variable)
-            pool = 0 if classifier.spec.kind == "push" or learned.ranks_proposals(variable) else POOL
+            pool = 0 if classifier.spec.kind == "push" or learned.ranks_proposals(variable) else budget.learned_pool
         self.pool = pool  # 0: rank proposals
         self.trust: Dict[Tuple[str, ...], Trust] = {}   # per mechanism grounding
         # Told of every scored batch: (the request, the scores), e.g. planner/promise.py.
@@ -205,7 +209,7 @@ class RankedSampler(Sampler):
 
     def trust_for(self, request: SampleRequest) -> Trust:
         """The plan's record of learned against random picks for the step's grounding."""
-        return self.trust.setdefault(tuple(request.step.mechanism_args), Trust(EXPLORE))
+        return self.trust.setdefault(tuple(request.step.mechanism_args), Trust(self.sampler_budget.learned_explore))
 
     def outcome(self, value: object, ok: bool) -> None:
         """The step `value` was drawn for simulated as the skeleton expects (`ok`) or not;
@@ -218,14 +222,14 @@ class RankedSampler(Sampler):
     def _yielded(self, value: object, trust: Trust, explored: bool) -> object:
         # Most values are simulated at once; those whose visit ended first never are, so
         # the oldest are forgotten beyond a bound.
-        if len(self._pending) >= PENDING:
+        if len(self._pending) >= self.sampler_budget.learned_pending:
             del self._pending[next(iter(self._pending))]
         self._pending[id(value)] = (value, trust, explored)
         return value
 
     def draw(self, world: "World", request: SampleRequest, rng: np.random.Generator,
              budget: Optional[int] = None) -> Iterator[object]:
-        outside = self.learned.extrapolates(world, request, self.variable)
+        outside = self.learned.extrapolates(world, request, self.variable, self.sampler_budget)
         if outside is not None:
             key = (tuple(request.step.mechanism_args), outside)
             self.extrapolated[key] = self.extrapolated.get(key, 0) + 1
@@ -256,17 +260,18 @@ class RankedSampler(Sampler):
                 return
             scores = self._scored(world, request, pool)
             trust = self.trust_for(request)
-            for index, explored in walk(scores, rng, trust.explore_chance):
+            for index, explored in walk(scores, rng, trust.explore_chance, budget=self.sampler_budget):
                 yield self._yielded(pool[index], trust, explored)
 
     def probe(self, world: "World", request: SampleRequest, rng: np.random.Generator) -> bool:
         """Score one batch of proposals, verifying none, for `on_scores` (the planner's view of
         the grounding, planner/promise.py). False where the classifier is not asked (a pool of
         verified values, or a fixed object out of its training's place) or nothing is proposed."""
-        if self.pool or self.learned.extrapolates(world, request, self.variable) is not None:
+        if self.pool or self.learned.extrapolates(world, request, self.variable, self.sampler_budget) is not None:
             return False
         # Every refill is tried: a thin spoon lying flat may give a call no grasp at all.
-        batch = list(islice(self._proposals(world, request, rng, max(self.budget, BATCH), [], until_dry=False), BATCH))
+        size = self.sampler_budget.learned_batch
+        batch = list(islice(self._proposals(world, request, rng, max(self.budget, size), [], until_dry=False), size))
         if batch:
             self._scored(world, request, batch)
         return bool(batch)
@@ -286,8 +291,9 @@ class RankedSampler(Sampler):
     def _draw_proposals(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                         budget: Optional[int] = None) -> Iterator[object]:
         limit = self.budget if budget is None else budget  # proposals verified, as the generic draw
-        # A batch is BATCH proposals even when few are verified (a push verifies one distance
-        # per visit, out of BATCH proposed and ranked).
+        # A batch is `learned_batch` proposals even when few are verified (a push verifies one
+        # distance per visit, out of a batch proposed and ranked).
+        size = self.sampler_budget.learned_batch
         first: List[int] = []   # how many the proposer's first call found, once it is known
 
         def done() -> bool:
@@ -296,10 +302,10 @@ class RankedSampler(Sampler):
             # of a plate still lying flat).
             return examined >= min(limit, first[0] if first else limit) or time.perf_counter() > request.deadline
 
-        proposals = self._proposals(world, request, rng, max(limit, BATCH), first)
+        proposals = self._proposals(world, request, rng, max(limit, size), first)
         examined = 0
         while not done():
-            batch = list(islice(proposals, BATCH))
+            batch = list(islice(proposals, size))
             if not batch:
                 return
             scores = self._scored(world, request, batch)
@@ -307,11 +313,11 @@ class RankedSampler(Sampler):
 
             def top_up() -> np.ndarray:
                 # Only for a pick the visit will verify: drawing proposals moves the rng.
-                fresh = [] if done() else list(islice(proposals, BATCH))
+                fresh = [] if done() else list(islice(proposals, size))
                 batch.extend(fresh)
                 return self._scored(world, request, fresh) if fresh else np.zeros(0)
 
-            for index, explored in walk(scores, rng, trust.explore_chance, top_up):
+            for index, explored in walk(scores, rng, trust.explore_chance, top_up, self.sampler_budget):
                 if done():
                     return
                 examined += 1
@@ -325,15 +331,15 @@ class RankedSampler(Sampler):
 
     def _proposals(self, world: "World", request: SampleRequest, rng: np.random.Generator,
                    count: int, first: List[int], until_dry: bool = True) -> Iterator[object]:
-        """The generic proposer's proposals, and when it runs dry, those of up to REFILLS
-        more calls; a call that finds none ends them (`until_dry`). How many the first call found is
-        appended to `first` when that call ends. A proposer examines a bounded number
+        """The generic proposer's proposals, and when it runs dry, those of up to
+        `learned_refills` more calls; a call that finds none ends them (`until_dry`). How many
+        the first call found is appended to `first` when that call ends. A proposer examines a bounded number
         of candidates per call: the contact proposer's 60 points on the target give a held
         tool a median of 2 usable contacts, and a batch of 2 leaves the classifier nothing
         to choose (on a Hook test instance 1 in 5 of them pulls the box toward the robot,
         and only those pulls bring it within reach). Proposing is geometry, no IK:
         ~8 ms a call there."""
-        for _ in range(1 + REFILLS):
+        for _ in range(1 + self.sampler_budget.learned_refills):
             found = 0
             for proposal in self.generic.propose(world, request, rng, count):
                 found += 1

@@ -5,9 +5,10 @@ never saw: on Slope-and-Blocker's held-out blockers (a spoon, a thicker stick) t
 it ranks first slid off where the generic sampler's first random one held (46 values
 simulated against 8), and on Poking's held-out spoon it needed 510 values where the generic
 order needed 160. The walk through a ranked batch already takes a random proposal instead
-of the best left with a small chance (EXPLORE); `Trust` keeps score of both kinds of pick in
-one plan, per mechanism grounding, and raises that chance as the evidence grows that random
-picks do better than the learned ones, up to a walk in the generic (random) order.
+of the best left with a small chance (SamplerBudget.learned_explore, ../budget.py: the
+`floor`); `Trust` keeps score of both kinds of pick in one plan, per mechanism grounding,
+and raises that chance as the evidence grows that random picks do better than the learned
+ones, up to a walk in the generic (random) order.
 
 A pick succeeds when its proposal verifies, the step it is used in simulates with the
 contacts the skeleton expects, and the mechanism's next step then simulates too within that
