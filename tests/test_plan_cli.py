@@ -175,3 +175,13 @@ def test_plan_render_takes_the_camera_options(capsys):
     assert captured.err == "error: argument --pitch: must be a finite number, got 'nan'\n"
     args = plan._parser().parse_args([BASIS, "pick", "--render", "x.gif", "--yaw", "90", "--distance", "1.2"])
     assert (args.yaw, args.pitch, args.distance) == (90.0, -35.0, 1.2)
+
+
+def test_all_takes_a_users_fragment_beside_the_shipped_ones(tmp_path):
+    """`--mechanisms all my-trick.pddl`: every shipped fragment and the user's, each once."""
+    from pdsketch_mech.learning.paths import resolve_mechanisms, shipped_mechanisms
+    mine = tmp_path / "my-trick.pddl"
+    mine.write_text("; a user's fragment\n")
+    files = resolve_mechanisms(["all", str(mine), "edge"])
+    assert len(files) == len(shipped_mechanisms()) + 1 and files[-1] == str(mine)
+    assert [os.path.basename(f)[:-5] for f in files[:-1]] == shipped_mechanisms()

@@ -34,7 +34,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("problem", metavar="PROBLEM", help="problem file, or a shipped example's name (hook-use)")
     parser.add_argument("--mechanisms", nargs="+", default=[], metavar="NAME",
                         help="domain fragments merged into DOMAIN: paths, shipped mechanisms' names "
-                             "(edge, hook-use, ...), or `all` for every shipped one")
+                             "(edge, hook-use, ...), or `all` for every shipped one (with yours: `all my-trick.pddl`)")
     parser.add_argument("--timeout", type=seconds, default=600.0, metavar="S",
                         help="seconds from the start of the command (default 600)")
     parser.add_argument("--seed", type=seed, default=0, metavar="N", help="random seed (default 0)")

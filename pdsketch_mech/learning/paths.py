@@ -45,12 +45,16 @@ def resolve_domain(name: str) -> str:
 
 
 def resolve_mechanisms(names: Union[str, Sequence[str]]) -> List[str]:
-    """Fragment files: paths, shipped mechanisms' names, or `all` for every shipped one."""
+    """Fragment files: paths, shipped mechanisms' names, or `all` for every shipped one
+    (beside a user's own: `all my-trick.pddl`), each once."""
     names = [names] if isinstance(names, str) else list(names)
     shipped = shipped_mechanisms()
-    if names == ["all"]:
-        return [os.path.join(MECHANISMS_DIR, name + ".pddl") for name in shipped]
-    return [_resolve(name, MECHANISMS_DIR, shipped, "mechanism") for name in names]
+    out: List[str] = []
+    for name in names:
+        for path in (shipped if name == "all" else [name]):
+            resolved = _resolve(path, MECHANISMS_DIR, shipped, "mechanism")
+            out += [] if resolved in out else [resolved]
+    return out
 
 
 def shipped_problems() -> List[str]:
