@@ -75,86 +75,117 @@ def iter_skeletons(task: StripsTask, max_visits: int = 50, weight: float = 1.0, 
                    revived: Optional[Callable[[], int]] = None, priced: bool = True) -> Iterator[List[int]]:
     """Yield operator-id plans, cheapest (by g + weight·h) first, no two with the same labels.
 
-    `priced`: the cost model (module docstring). `max_visits` and `max_length` (a cost) are where the schedule starts; each doubles
-    whenever the search runs out of paths within them (module docstring). `handles`,
-    `relevant`, `blocked` and `revived` are asked as the search goes, so the caller may
-    learn more on the way. Stops when every path has been searched (a task with finitely
-    many acyclic paths and nothing set aside) or at `deadline` (time.perf_counter() value).
+    `priced`: the cost model (module docstring). `max_visits` and `max_length` (a cost) are
+    where the schedule starts; each doubles whenever the search runs out of paths within them
+    (module docstring). `handles`, `relevant`, `blocked` and `revived` are asked as the search
+    goes, so the caller may learn more on the way. Stops when every path has been searched (a
+    task with finitely many acyclic paths and nothing set aside) or at `deadline`
+    (time.perf_counter() value).
     """
-    heuristic = heuristic or (priced_heuristic(task) if priced else FFHeuristic(task))
-
-    def order(f: float, h: float, n_ops: int) -> tuple:
-        """Priced: equal costs go to more operators, counting the relaxed plan's steps as
-        operators still to come (the steps written out before a mechanism that takes them).
-        Unit: lower h first (the goal nearer), as a plain best-first."""
-        return (f, -(n_ops + h), h) if priced else (f, h, n_ops)
-    successors = SuccessorGenerator(task)
-    h_cache = {task.init: heuristic(task.init)[0]}
-    if h_cache[task.init] == INFINITY:
-        return
-    visits: Counter = Counter()
+    search = _PathSearch(task, heuristic or (priced_heuristic(task) if priced else FFHeuristic(task)), weight,
+                         priced, handles, relevant, blocked, revived, max_visits, max_length)
     seen_plans: Set[Tuple[str, ...]] = set()
-    counter = 0
-    bound, length = max_visits, max_length
-    revivals = revived() if revived is not None else 0
-    honoured = blocked is not None   # set aside what `blocked` says, until only such paths are left
-
-    def visit_key(state, cost: int, handled: int) -> tuple:
-        return state, cost, handled & relevant() if relevant is not None else 0
-
-    # (order(f, h, operators), tie-break, operators, state, cost, objects handled, handled before the last op, path)
-    h0 = h_cache[task.init]
-    open_list = [(order(weight * h0, h0, 0), counter, 0, task.init, 0, 0, 0, None)]
-    waiting: list = []    # paths through a blocked operator
-    beyond: list = []     # paths past the visit or cost bound: the schedule's next round
-    while open_list or waiting or beyond:
-        if revived is not None and revived() != revivals:   # a verdict withdrawn: re-ask the waiting
-            revivals, honoured = revived(), blocked is not None
-            open_list.extend(waiting)
-            waiting = []
-            heapq.heapify(open_list)
-        if not open_list:
-            if waiting:   # only paths through blocked operators are left: search them
-                open_list, waiting, honoured = waiting, [], False
-            else:   # every path within the bounds is searched: widen them
-                bound, length = 2 * bound, 2 * length
-                open_list, beyond = beyond, []
-            heapq.heapify(open_list)
+    while search.refill():
         if deadline is not None and time.perf_counter() > deadline:
             return
-        node = heapq.heappop(open_list)
-        _, _, n_ops, state, cost, handled, before, path = node
-        if honoured and path is not None and blocked(before, path[1]):
-            waiting.append(node)  # found out since it was generated
-            continue
-        if task.is_goal(state):  # a leaf: the bound on paths into a state is for expansions
-            plan = _unroll(path)
+        plan = search.step()
+        if plan is not None:
             labels = tuple(task.operators[o].label for o in plan)
             if labels not in seen_plans:
                 seen_plans.add(labels)
                 yield plan
-            continue
-        key = visit_key(state, cost, handled)
-        if visits[key] >= bound or cost >= length:
-            beyond.append(node)
-            continue
-        visits[key] += 1
-        for op in successors(state):
+
+
+# A node: (order key, tie-break, operators, state, cost, objects handled, handled before the last op, path)
+Node = Tuple[tuple, int, int, int, int, int, int, Path]
+
+
+class _PathSearch:
+    """The best-first search over paths behind `iter_skeletons`: an open list, the paths
+    set aside through blocked operators (`waiting`) and past the bounds (`beyond`)."""
+
+    def __init__(self, task: StripsTask, heuristic, weight: float, priced: bool,
+                 handles: Optional[Sequence[int]], relevant: Optional[Callable[[], int]],
+                 blocked: Optional[Callable[[int, int], bool]], revived: Optional[Callable[[], int]],
+                 max_visits: int, max_length: int):
+        self.task, self.heuristic, self.weight, self.priced = task, heuristic, weight, priced
+        self.handles, self.relevant, self.blocked, self.revived = handles, relevant, blocked, revived
+        self.successors = SuccessorGenerator(task)
+        self.h_cache = {task.init: heuristic(task.init)[0]}
+        self.visits: Counter = Counter()
+        self.counter = 0
+        self.bound, self.length = max_visits, max_length
+        self.revivals = revived() if revived is not None else 0
+        self.honoured = blocked is not None   # set aside what `blocked` says, until only such paths are left
+        h0 = self.h_cache[task.init]
+        self.open: List[Node] = [] if h0 == INFINITY else [(self.order(weight * h0, h0, 0), 0, 0, task.init, 0, 0, 0,
+                                                             None)]
+        self.waiting: List[Node] = []   # paths through a blocked operator
+        self.beyond: List[Node] = []    # paths past the visit or cost bound: the schedule's next round
+
+    def order(self, f: float, h: float, n_ops: int) -> tuple:
+        """Priced: equal costs go to more operators, counting the relaxed plan's steps as
+        operators still to come (the steps written out before a mechanism that takes them).
+        Unit: lower h first (the goal nearer), as a plain best-first."""
+        return (f, -(n_ops + h), h) if self.priced else (f, h, n_ops)
+
+    def visit_key(self, state: int, cost: int, handled: int) -> tuple:
+        return state, cost, handled & self.relevant() if self.relevant is not None else 0
+
+    def refill(self) -> bool:
+        """Make the open list non-empty if any path is left: waiting paths come back when a
+        verdict is withdrawn or nothing else is left; then the bounds double. False: done."""
+        if not (self.open or self.waiting or self.beyond):
+            return False
+        if self.revived is not None and self.revived() != self.revivals:   # a verdict withdrawn: re-ask the waiting
+            self.revivals, self.honoured = self.revived(), self.blocked is not None
+            self.open.extend(self.waiting)
+            self.waiting = []
+            heapq.heapify(self.open)
+        if not self.open:
+            if self.waiting:   # only paths through blocked operators are left: search them
+                self.open, self.waiting, self.honoured = self.waiting, [], False
+            else:   # every path within the bounds is searched: widen them
+                self.bound, self.length = 2 * self.bound, 2 * self.length
+                self.open, self.beyond = self.beyond, []
+            heapq.heapify(self.open)
+        return True
+
+    def step(self) -> Optional[List[int]]:
+        """Pop one path: a goal path is returned as a plan; any other is expanded (or set aside)."""
+        node = heapq.heappop(self.open)
+        _, _, n_ops, state, cost, handled, before, path = node
+        if self.honoured and path is not None and self.blocked(before, path[1]):
+            self.waiting.append(node)  # found out since it was generated
+            return None
+        if self.task.is_goal(state):  # a leaf: the bound on paths into a state is for expansions
+            return _unroll(path)
+        key = self.visit_key(state, cost, handled)
+        if self.visits[key] >= self.bound or cost >= self.length:
+            self.beyond.append(node)
+            return None
+        self.visits[key] += 1
+        self.expand(n_ops, state, cost, handled, path)
+        return None
+
+    def expand(self, n_ops: int, state: int, cost: int, handled: int, path: Path) -> None:
+        task = self.task
+        for op in self.successors(state):
             operator = task.operators[op]
             child = task.successor(state, operator)
-            h = h_cache.get(child)
+            h = self.h_cache.get(child)
             if h is None:
-                h = h_cache[child] = heuristic(child)[0]
+                h = self.h_cache[child] = self.heuristic(child)[0]
             if h == INFINITY:
                 continue
-            counter += 1
-            child_cost = cost + (operator.cost if priced else 1)
-            child_handled = handled | handles[op] if handles is not None else 0
-            item = (order(child_cost + weight * h, h, n_ops + 1), counter, n_ops + 1, child, child_cost, child_handled,
-                    handled, (path, op))
-            if honoured and blocked(handled, op):
-                waiting.append(item)
-            elif not task.is_goal(child) and visits[visit_key(child, child_cost, child_handled)] >= bound:
-                beyond.append(item)   # its state is searched enough at that cost for this round
+            self.counter += 1
+            child_cost = cost + (operator.cost if self.priced else 1)
+            child_handled = handled | self.handles[op] if self.handles is not None else 0
+            item = (self.order(child_cost + self.weight * h, h, n_ops + 1), self.counter, n_ops + 1, child, child_cost,
+                    child_handled, handled, (path, op))
+            if self.honoured and self.blocked(handled, op):
+                self.waiting.append(item)
+            elif not task.is_goal(child) and self.visits[self.visit_key(child, child_cost, child_handled)] >= self.bound:
+                self.beyond.append(item)   # its state is searched enough at that cost for this round
             else:
-                heapq.heappush(open_list, item)
+                heapq.heappush(self.open, item)
