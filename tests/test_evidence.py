@@ -208,3 +208,20 @@ def test_a_skeletons_own_broken_promises_shrink_its_share():
     assert evidence.estimate(pull, pull.number) == 1.0
     _outcomes(evidence, pull, 1, False, 10)
     assert evidence.estimate(pull, pull.number) == pytest.approx(2 / 12)   # Laplace: 2 (0 + 1) / (0 + 10 + 2)
+
+
+def test_a_way_past_a_dead_step_keeps_its_gain_while_the_step_is_revisited():
+    """Revisiting a dead verdict (the step believed alive again for a while) does not undo
+    what a push that got past it showed; only the step proving feasible where the scene
+    began does."""
+    evidence = _evidence()
+    key = ("grasp", ("tool", "table"))
+    for _ in range(evidence.dead_after):
+        evidence.ran_dry(key)
+    push = Step("transit-cont", ("tool", "table", "#c"), 0)
+    lever = skeleton_of([push, Step("grasp", ("tool", "table", "#g"), HELD, "lever", (), 0, ("tool", "box"))], 4)
+    _outcomes(evidence, lever, 1, True, 1)
+    assert evidence.advance(10 ** 6) and key not in evidence.dead          # believed alive again
+    assert evidence.estimate(lever) == pytest.approx(UNBLOCK_GAIN)
+    evidence.found(key)                                                     # feasible where the scene began
+    assert evidence.estimate(lever) == 1.0

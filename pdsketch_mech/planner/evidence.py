@@ -13,7 +13,8 @@ every visit that found no value. What the store holds, and the factor each gives
   q = (1 - p)^F, so P(works | F failures) = q / (1 + q) against the prior 1/2. Where it has
   worked, 1: one easy step says nothing of a skeleton's others. A sampler that ran dry
   says more about the scene's continuous state than about the step: it is not counted.
-- **a way past a dead step**: a step found dead where the scene began that has simulated
+- **a way past a dead step**: a step found dead where the scene began (believed dead now,
+  or being revisited: a revisit does not undo the way found past it) that has simulated
   after the same steps (skeleton.py, its *context*; the grasp of a box out of reach, once
   a hook pulled it closer), in any skeleton, this one included, whichever mechanism the
   step belonged to: `unblock_gain`. Those steps are the only way found past the scene as it
@@ -203,7 +204,7 @@ class Evidence:
         """What is known of a step, as a natural log (module docstring): `unblock_gain` where a
         step dead as the scene began has worked after the same steps, the chance that it is
         not dead where it has only failed from the same contact state, 1 otherwise."""
-        if context[0][:2] in self.dead and (context[0][:2], context[1]) in self._passed:
+        if context[0][:2] in self.first_dead and (context[0][:2], context[1]) in self._passed:
             return math.log(self.gain)   # its own success too: getting past it is not in its effort
         successes, failures = self.counts(question, owner)
         if successes or not failures:
