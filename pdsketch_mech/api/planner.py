@@ -2,6 +2,7 @@
 problems in the same process. Each `plan` returns the document `plan --json` writes."""
 from __future__ import annotations
 
+import os
 import sys
 import time
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
@@ -56,7 +57,8 @@ class Planner:
         if not loaded.domain.streams:
             return _plan_classical(loaded, parsed, timeout, seed, started)
         result, entries = plan_scene(loaded, parsed, started, started + timeout, seed,
-                                     self.basis_only, self._learned_samplers(loaded))
+                                     self.basis_only, self._learned_samplers(loaded),
+                                     anchors=mechanism_anchors(loaded, self.use_learned, not self.basis_only))
         document = plan_document(result.status, result.reason or result.status, time.perf_counter() - started,
                                  seed, entries, result.stats, parsed.name)
         if result.status == "solved" and (validate or render):
@@ -89,6 +91,25 @@ def learned_samplers(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bo
     return load_learned(loaded.domain.mechanisms)
 
 
+def mechanism_anchors(loaded: LoadedDomain, use_learned: bool, use_mechanisms: bool) -> Dict[str, object]:
+    """What each mechanism's demonstration did (`NAME.anchors.json` beside its fragment), or
+    none: the generic-sampler ablation (`--no-learned-samplers`, the paper's Macro) uses none.
+    A malformed anchors file is a `PddlError` at its mechanism."""
+    if not use_learned or not use_mechanisms:
+        return {}
+    from ..samplers.anchored import anchors_path, read_anchors
+    found = {}
+    for mechanism in loaded.domain.mechanisms:
+        fragment = mechanism.loc.file if mechanism.loc is not None else ""
+        path = anchors_path(fragment, mechanism.name) if fragment else ""
+        if path and os.path.isfile(path):
+            try:
+                found[mechanism.name] = read_anchors(path, mechanism.name)
+            except (ValueError, OSError) as exc:
+                raise PddlError(f"mechanism {mechanism.name}: its anchors cannot be read: {exc}", mechanism.loc) from None
+    return found
+
+
 def _load_simulator_quietly() -> None:
     """PyBullet prints a banner on stdout when it loads; a command's import hook hides it,
     a library caller's output is kept clean here instead."""
@@ -100,7 +121,8 @@ def _load_simulator_quietly() -> None:
 
 def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline: float, seed: int,
                basis_only: bool, learned: Mapping[str, object],
-               on_warning: Optional[Callable[[PddlWarning], None]] = None):
+               on_warning: Optional[Callable[[PddlWarning], None]] = None,
+               anchors: Optional[Mapping[str, object]] = None):
     """The bilevel planner on `problem`'s scene until `deadline` (`time.perf_counter()` values,
     like `started`, when the caller's clock began): (PlanResult, the plan's JSON entries). The
     statistics get `startup_s` (until planning began: loading, world building), `planning_s`
@@ -122,7 +144,7 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
             on_warning(warning)
         began = time.perf_counter()
         result = bilevel_plan(loaded, problem, world, timeout=max(0.1, deadline - began), seed=seed,
-                              use_mechanisms=not basis_only, learned=learned)
+                              use_mechanisms=not basis_only, learned=learned, anchors=anchors)
         result.stats["planning_s"] = round(time.perf_counter() - began, 3)
     result.stats["startup_s"] = round(began - started, 3)
     result.stats["learned_samplers"] = sorted(learned) if learned else "off"

@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 import sys
 import time
-from typing import List, Optional
+from typing import List, Optional, Tuple
 
 from ..lang.errors import PddlError
 from ..learning.paths import NAME, repo_path
@@ -75,8 +75,15 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
         elif not args.force:
             why = _what_differs(out, existing_text, text, fragment)
             return fail(f"{shown_path(out)} exists and differs: {why} (use --force to replace it)")
+    anchors_out, anchors = _anchors(extraction, out)
+    if status != "wrote" and not args.force and os.path.exists(anchors_out):
+        with open(anchors_out, encoding="utf-8") as handle:
+            if handle.read() != anchors:
+                return fail(f"{shown_path(anchors_out)} exists and differs: another demonstration's values "
+                            "(use --force to replace it)")
     if status == "wrote":
         write_text(out, text)
+    write_text(anchors_out, anchors)
     steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)
     print(f"{status} {shown_path(out)}: mechanism {name}, {len(extraction.explanation.steps)} steps {steps}; "
           f"{time.perf_counter() - start:.1f} s", file=sys.stderr)
@@ -84,6 +91,18 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
         frames = _render(extraction, args.render)
         print(f"wrote {args.render} (key frames {', '.join(map(str, frames))})", file=sys.stderr)
     return EXIT_OK
+
+
+def _anchors(extraction, out: str) -> Tuple[str, str]:
+    """(path, text) of the mechanism's anchors: what the demonstration did, beside the fragment."""
+    from ..envs.demos.show import replay_world
+    from ..learning.anchors import anchors_text, demonstration_anchors
+    from ..learning.extract import load_basis
+    from ..samplers.anchored import anchors_path
+
+    with replay_world(extraction.segmentation.recording) as world:
+        anchors = demonstration_anchors(extraction, load_basis(), world)
+    return anchors_path(out, extraction.name), anchors_text(anchors)
 
 
 def named_sampler(path: str, name: str) -> Optional[str]:

@@ -6,7 +6,7 @@ import argparse
 import sys
 import time
 
-from ..api.planner import learned_samplers, plan_scene, replay_entries
+from ..api.planner import learned_samplers, mechanism_anchors, plan_scene, replay_entries
 from ..lang.errors import PddlError
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
@@ -25,8 +25,9 @@ def plan_manipulation(args: argparse.Namespace, loaded: LoadedDomain, problem: P
     try:
         learned = learned_samplers(loaded, use_learned=not args.no_learned_samplers,
                                    use_mechanisms=not args.basis_only)
+        anchors = mechanism_anchors(loaded, use_learned=not args.no_learned_samplers, use_mechanisms=not args.basis_only)
         result, entries = plan_scene(loaded, problem, started, started + args.timeout - FINISH_MARGIN, args.seed,
-                                     args.basis_only, learned, on_warning=print_warning)
+                                     args.basis_only, learned, on_warning=print_warning, anchors=anchors)
     except CheckpointError as error:  # a clear line, no fallback
         print_error(error.as_pddl_error())
         return EXIT_BAD_INPUT

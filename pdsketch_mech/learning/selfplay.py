@@ -24,6 +24,7 @@ episode that hits it is marked, since its data then depend on the machine's spee
 """
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import time
@@ -47,6 +48,7 @@ from ..planner.refine import Refinement
 from ..planner.skeleton import Skeleton, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
+from ..samplers.anchored import MechanismAnchors, anchors_path, read_anchors
 from ..samplers.learned.encoding import VALUE_WIDTH, mass_features
 from ..samplers.learned.checkpoint import mechanism_hash
 from ..samplers.learned.context import context_objects
@@ -72,17 +74,28 @@ class SelfPlayConfig:
     def identity(self) -> Dict[str, object]:
         """What must match for two runs to write into the same folder: the options, and the
         mechanism's definition (the hash a checkpoint records), so that data played before
-        an edit of the fragment are not trained on after it."""
-        return {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
-                "time_limit": self.time_limit, "split": self.split, "grounding": self.grounding,
-                "context": self.context,
-                "mechanism_hash": mechanism_hash(find_mechanism(_domain(self.fragment), self.mechanism))}
+        an edit of the fragment are not trained on after it; and its demonstration's anchors,
+        which the episodes draw from first (samplers/anchored.py), if it has them."""
+        identity = {"mechanism": self.mechanism, "task": self.task, "seed": self.seed, "budget": self.budget,
+                    "time_limit": self.time_limit, "split": self.split, "grounding": self.grounding,
+                    "context": self.context,
+                    "mechanism_hash": mechanism_hash(find_mechanism(_domain(self.fragment), self.mechanism))}
+        path = anchors_path(self.fragment, self.mechanism)
+        if os.path.isfile(path):
+            with open(path, "rb") as handle:
+                identity["anchors_sha256"] = hashlib.sha256(handle.read()).hexdigest()[:16]
+        return identity
 
 
 def episode_seeds(base: int, episode: int) -> Tuple[int, int]:
     """(instance seed, planner seed) of episode `episode`: a function of (base, episode) only."""
     instance, planner = np.random.SeedSequence([base, episode]).generate_state(2)
     return int(instance), int(planner)
+
+
+def _anchors(fragment: str, mechanism: str) -> Dict[str, MechanismAnchors]:
+    path = anchors_path(fragment, mechanism)
+    return {mechanism: read_anchors(path, mechanism)} if os.path.isfile(path) else {}
 
 
 @lru_cache(maxsize=4)
@@ -182,7 +195,10 @@ def run_episode(config: SelfPlayConfig, episode: int) -> Dict[str, np.ndarray]:
             steps = skeleton_steps(task, plan)
             log = SampleLog(world, objects, [[t.name for t in call.args] for call in mechanism.actions],
                             [q.name for q in mechanism.parameters], placeholders)
-            sampler = StepSampler({s.name: s for s in loaded.domain.streams}, placeholders, Counter())
+            # Generic samplers, after what the demonstration did where the mechanism has anchors:
+            # a trick the user showed then succeeds often enough to learn from.
+            sampler = StepSampler({s.name: s for s in loaded.domain.streams}, placeholders, Counter(),
+                                  anchors=_anchors(config.fragment, mechanism.name))
             sampler.observers.append(log)
             sampler.verify_observers.append(log.verified)
             deadline = started + config.time_limit

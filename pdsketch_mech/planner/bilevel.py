@@ -22,6 +22,7 @@ import numpy as np
 from ..lang.loader import LoadedDomain
 from ..lang.nodes import Problem
 from ..operators.vocabulary import BASIS, Vocabulary, vocabulary_of
+from ..samplers.anchored import MechanismAnchors
 from ..symbolic.grounding import ground
 from ..symbolic.optimistic import optimistic_problem
 from ..symbolic.task import StripsTask
@@ -71,14 +72,15 @@ def prepare_task(domain: LoadedDomain, problem: Problem, use_mechanisms: bool = 
 def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: float = 600.0, seed: int = 0,
                  use_mechanisms: bool = True, validate: bool = True,
                  learned: Optional[Mapping[str, "LearnedMechanism"]] = None,
-                 budget: SearchBudget = DEFAULT_BUDGET, vocabulary: Optional[Vocabulary] = None) -> PlanResult:
+                 budget: SearchBudget = DEFAULT_BUDGET, vocabulary: Optional[Vocabulary] = None,
+                 anchors: Optional[Mapping[str, MechanismAnchors]] = None) -> PlanResult:
     """Plan in `world` (a fresh world of `problem`'s scene; left as it was) within `timeout`
     seconds. With `validate`, a refined skeleton counts only once it has been re-executed
     in another fresh world, as `replay` does, and reached the goal there. `learned`: the
-    mechanisms' learned samplers, by mechanism name. `vocabulary`: the one the domain names
-    unless given."""
+    mechanisms' learned samplers, by mechanism name; `anchors`: what their demonstrations
+    did (samplers/anchored.py). `vocabulary`: the one the domain names unless given."""
     return BilevelSearch(domain, problem, world, timeout, seed, use_mechanisms, validate, learned, budget,
-                         vocabulary or vocabulary_of(domain.domain)).run()
+                         vocabulary or vocabulary_of(domain.domain), anchors).run()
 
 
 class BilevelSearch:
@@ -86,7 +88,7 @@ class BilevelSearch:
 
     def __init__(self, domain: LoadedDomain, problem: Problem, world: World, timeout: float, seed: int,
                  use_mechanisms: bool, validate: bool, learned: Optional[Mapping[str, "LearnedMechanism"]],
-                 budget: SearchBudget, vocabulary: Vocabulary):
+                 budget: SearchBudget, vocabulary: Vocabulary, anchors: Optional[Mapping[str, MechanismAnchors]] = None):
         self.start = time.perf_counter()
         self.deadline = self.start + timeout
         self.problem, self.world, self.seed, self.validate = problem, world, seed, validate
@@ -94,7 +96,8 @@ class BilevelSearch:
         self.task, placeholders = prepare_task(domain, problem, use_mechanisms, vocabulary)
         counts: Counter = Counter()
         self.sampler = StepSampler({s.name: s for s in domain.domain.streams}, placeholders, counts,
-                                   learned if use_mechanisms else None, budget=budget.samplers)
+                                   learned if use_mechanisms else None, budget=budget.samplers,
+                                   anchors=anchors if use_mechanisms else None)
         self.sampler.deadline = self.deadline
         self.stats = RunStats(self.task, counts, self.start)
         warnings = settle_start(world)

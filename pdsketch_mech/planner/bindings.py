@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Mapping, Optio
 import numpy as np
 
 from ..lang.nodes import Stream
+from ..samplers.anchored import AnchoredSampler, MechanismAnchors
 from ..samplers.budget import SamplerBudget
 from ..samplers.interface import Sampler, SampleRequest, StepContext
 from ..samplers.registry import GENERIC_SAMPLERS
@@ -40,9 +41,10 @@ class StepSampler:
 
     def __init__(self, streams: Mapping[str, Stream], placeholders: Mapping[str, Placeholder], counts: Counter,
                  learned: Optional[Mapping[str, "LearnedMechanism"]] = None,
-                 budget: SamplerBudget = SamplerBudget()):
+                 budget: SamplerBudget = SamplerBudget(), anchors: Optional[Mapping[str, MechanismAnchors]] = None):
         self.streams, self.placeholders, self.counts = streams, placeholders, counts
         self.learned = dict(learned or {})   # mechanism name -> its classifiers
+        self.anchors = dict(anchors or {})   # mechanism name -> what its demonstration did
         self.budget = budget   # every sampler's search budgets (samplers/budget.py)
         self.simulated: Counter = Counter()  # sampler -> values of it in steps simulated
         # (step label, sampler, its objects where the scene began) -> [proposals verified, of
@@ -58,31 +60,47 @@ class StepSampler:
         self.observers: List[SampleObserver] = []
         self.verify_observers: List[VerifyObserver] = []
         self._ranked: Dict[Tuple[str, str, str], Sampler] = {}
+        self._anchored_samplers: Dict[Tuple[str, str, str], Sampler] = {}
         self.promise = GroundingPromise()   # what the learned samplers think of each grounding
 
     def sampler_for(self, stream: str, step: StepContext, placeholder: str) -> Sampler:
-        """The stream's generic sampler, ranked by a classifier if the step's mechanism has one
-        for the variable `placeholder` stands for."""
+        """The stream's generic sampler; for a mechanism's step, its demonstrated value first
+        where the mechanism has an anchor for the variable `placeholder` stands for, and the
+        proposals ranked by a classifier where it has one."""
         learned = self.learned.get(step.mechanism) if step.mechanism else None
         variable = step.role(placeholder)
+        anchored = self._anchored(stream, step.mechanism, variable)
         if learned is None or variable not in learned:
-            return self.samplers[stream]
+            return anchored or self.samplers[stream]
         key = (stream, step.mechanism, variable)
         if key not in self._ranked:
             from ..samplers.learned.ranked import RankedSampler
-            ranked = RankedSampler(self.samplers[stream], learned, variable, budget=self.budget)
+            ranked = RankedSampler(anchored or self.samplers[stream], learned, variable, budget=self.budget)
             ranked.on_scores = lambda request, scores: self.promise.observe(
                 request.step.mechanism, request.step.mechanism_args, variable, float(np.max(scores)))
             self._ranked[key] = ranked
         return self._ranked[key]
 
+    def _anchored(self, stream: str, mechanism: Optional[str], variable: Optional[str]) -> Optional[Sampler]:
+        """The anchored sampler of a mechanism's variable (None: no anchor for it)."""
+        anchors = self.anchors.get(mechanism) if mechanism else None
+        anchor = anchors.for_sampler(variable, self.key(stream)) if anchors is not None else None
+        if anchor is None:
+            return None
+        key = (stream, mechanism, variable)
+        if key not in self._anchored_samplers:
+            self._anchored_samplers[key] = AnchoredSampler(self.samplers[stream], anchor, self.budget)
+        return self._anchored_samplers[key]
+
     def proposals(self) -> Dict[str, Dict[str, int]]:
-        """Proposals verified per sampler name, generic and learned (ranked) apart."""
-        out: Dict[str, Dict[str, int]] = {"generic": Counter(), "learned": Counter()}
+        """Proposals verified per sampler name: generic, anchored (a demonstration's values
+        first, unranked) and learned (ranked) apart."""
+        out: Dict[str, Dict[str, int]] = {"generic": Counter(), "anchored": Counter(), "learned": Counter()}
         for stream, sampler in self.samplers.items():
             out["generic"][self.key(stream)] += sampler.examined
-        for (stream, _, _), sampler in self._ranked.items():
-            out["learned"][self.key(stream)] += sampler.examined
+        for kind, samplers in (("anchored", self._anchored_samplers), ("learned", self._ranked)):
+            for (stream, _, _), sampler in samplers.items():
+                out[kind][self.key(stream)] += sampler.examined
         return {k: dict(sorted((n, c) for n, c in v.items() if c)) for k, v in out.items()}
 
     def key(self, stream: str) -> str:

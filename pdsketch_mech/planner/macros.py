@@ -104,7 +104,7 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
     certified = tuple(formula_masks(mechanism.certified, binding, task, objects))
     if not certified:
         return None  # it promises what can never hold here
-    settles = certified_effect(certified[0], added, supports)
+    settles = certified_effect(certified[0], added | pre, supports)
     added, deleted = (added & ~settles[1]) | settles[0], (deleted & ~settles[0]) | settles[1]
     # Which of the mechanism's variables each placeholder stands for: learned samplers are
     # trained per variable, and self-play labels its data by them.
@@ -113,20 +113,22 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
                     certified=certified, roles=roles, settles=settles)
 
 
-def certified_effect(promise: Tuple[int, int], added: int, supports: Dict[int, int]) -> Tuple[int, int]:
+def certified_effect(promise: Tuple[int, int], known: int, supports: Dict[int, int]) -> Tuple[int, int]:
     """(add, delete) a mechanism's certified facts impose after its steps. What it certifies
     is its effect too (the paper: the demonstration's goal becomes the mechanism's certified
     effect): a push or a release whose outcome physics decides (a box pushed across a gap, a
-    block let go on a ramp it slides off) has no basis effect, yet refinement checks that the
-    certified facts hold. An object certified to rest on something rests on nothing else the
-    steps put it on. A self-contradicting promise is left to refinement to refute."""
+    block let go on a ramp it slides off, a box pulled off a shelf onto the table) has no basis
+    effect, yet refinement checks that the certified facts hold. An object certified to rest
+    on something rests on nothing else it is known to rest on (`known`: what the steps put it
+    on, or where the mechanism needs it to lie before) unless certified. A self-contradicting
+    promise is left to refinement to refute."""
     promised, refused = promise
     if promised & refused:
         return 0, 0
     superseded = 0
     for fact_id, others in supports.items():
         if promised >> fact_id & 1:
-            superseded |= added & others & ~promised
+            superseded |= known & others & ~promised
     return promised, refused | superseded
 
 

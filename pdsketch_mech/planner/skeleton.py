@@ -34,6 +34,7 @@ class Step:
     mechanism_args: Tuple[str, ...] = ()
     roles: Tuple[Tuple[str, str], ...] = ()  # the mechanism's placeholders and their variables
     tolerated: int = 0            # support facts that may hold although `expected` lacks them
+    early: Tuple[int, int] = (0, 0)   # inside a mechanism: its certified (add, delete), which may hold already
 
     def context(self, at_start: bool = False) -> StepContext:
         """What the step's samplers are told about it (`at_start`: its objects lie where the
@@ -140,9 +141,11 @@ def detour_steps(task: StripsTask, plan: Sequence[int], masks: Sequence[int], fl
 def mismatch(observed: int, step: Step, observable: int) -> int:
     """The observable facts where the simulation and the skeleton disagree after `step`:
     a fact the skeleton expects that does not hold, or one that holds unexpected and is
-    not tolerated."""
+    not tolerated. Inside a mechanism, what its certified facts say may already be so (the
+    pull that drops the box off the shelf, before the tool is put back)."""
     diff = (observed ^ step.expected) & observable
-    return diff & ~(observed & step.tolerated)
+    added, deleted = step.early
+    return diff & ~(observed & (step.tolerated | added)) & ~(~observed & deleted)
 
 
 def goal_free_supports(task: StripsTask, vocabulary: Vocabulary = BASIS) -> int:
@@ -201,8 +204,21 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int], vocabulary: Vocabulary
                               op.certified if last and op.steps else (), k if macro else 0,
                               tuple(a for a in op.args if not is_placeholder(a)) if macro else (),
                               op.roles if macro else (),
-                              tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:], vocabulary)))
+                              tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:], vocabulary),
+                              _early(task, op, expansion[k + 1:]) if macro and not last else (0, 0)))
     return steps
+
+
+def _early(task: StripsTask, mechanism: Operator, later: Sequence[int]) -> Tuple[int, int]:
+    """What a mechanism's certified facts add and delete that may be so before its last step:
+    its effect may come about early (an object pulled off a ledge falls before the tool is put
+    back), except what its later steps need otherwise."""
+    needed_true = needed_false = 0
+    for op_id in later:
+        needed_true |= task.operators[op_id].pre
+        needed_false |= task.operators[op_id].neg
+    added, deleted = mechanism.settles
+    return added & ~needed_false, deleted & ~needed_true
 
 
 @dataclass

@@ -118,6 +118,21 @@ class SamplerBudget:
     # mean of its training inputs before the step draws from the generic sampler instead.
     learned_extrapolation_z: float = 10.0
 
+    # --- demonstration anchors (anchored.py) -------------------------------------------------
+    # Proposals transferred from a mechanism's demonstration a visit tries before the generic
+    # ones (the first exactly as demonstrated; a contact: this many in each of its two frames).
+    anchor_proposals: int = 6
+    # Factor: the most a demonstrated offset is stretched (or shrunk, by its inverse) to
+    # another object's bounding box, per axis.
+    anchor_max_scale: float = 2.0
+    # Radians: the spread of a transferred grasp's turn about its approach axis, or a contact's
+    # about the vertical through the contact point (standard deviation).
+    anchor_turn: float = 0.15
+    # Metres: the spread of a transferred grasp's or contact's position (standard deviation).
+    anchor_shift: float = 0.01
+    # Ratio: the spread of a transferred push distance, relative (standard deviation).
+    anchor_distance_spread: float = 0.2
+
     def __post_init__(self) -> None:
         # A negative count would silently mean "none"; a chance outside 0..1 is a typo.
         for item in fields(self):

@@ -1,0 +1,244 @@
+"""Demonstration anchors: the values a mechanism's demonstration used, transferred to a scene.
+
+`learn extract` keeps, for each value variable of a mechanism's steps, what the demonstration
+did, relative to the objects involved (`NAME.anchors.json` beside the fragment; the format is
+in docs/mechanisms.md):
+
+- **grasp**: the gripper frame in the grasped object's frame, with the object's bounding box;
+- **contact**: the pusher's pose (the held tool, or the gripper frame) at first contact, the
+  contact point, push direction and the target's outward normal there, each twice: in the
+  target's frame (with its bounding box) and in the *reach frame* (origin at the target, x
+  horizontal from the robot's shoulder towards it, z up: "pull it towards me");
+- **push**: how far the push went past first contact.
+
+`AnchoredSampler` proposes these transferred to the scene first (a box of another size scales
+the offsets, another pose turns them, and all but the first get spread), then the generic
+sampler's proposals; the generic sampler verifies every one (IK, collisions, motion). So a
+mechanism extracted a minute ago first tries what the user showed, and learned samplers rank
+anchored proposals with the rest. Only geometry and poses are read, never names.
+"""
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ..world.values import Grasp
+from .budget import SamplerBudget
+from .contact import BACK, ContactCandidate
+from .geometry import body_mesh, matrix_pose, pose_matrix
+from .interface import SampleRequest, Sampler
+
+if TYPE_CHECKING:
+    from ..world.world import World
+
+SCHEMA = 1
+KINDS = {"grasp": "grasp", "contact": "contact", "push": "push-motion"}   # anchor kind -> the sampler it anchors
+
+
+def anchors_path(fragment: str, mechanism: str) -> str:
+    """Where a fragment's mechanism keeps its anchors: beside the fragment."""
+    return os.path.join(os.path.dirname(os.path.abspath(fragment)), f"{mechanism}.anchors.json")
+
+
+@dataclass(frozen=True)
+class MechanismAnchors:
+    """A mechanism's anchors: variable (`?g`) -> what the demonstration did (module docstring)."""
+
+    mechanism: str
+    variables: Mapping[str, Mapping[str, object]]
+
+    def for_sampler(self, variable: Optional[str], sampler: str) -> Optional[Mapping[str, object]]:
+        """The anchor of `variable` if it anchors the sampler named `sampler` (else None)."""
+        anchor = self.variables.get(variable) if variable else None
+        return anchor if anchor is not None and KINDS.get(str(anchor.get("kind"))) == sampler else None
+
+
+def read_anchors(path: str, mechanism: str) -> MechanismAnchors:
+    """The anchors file at `path` for `mechanism`; ValueError (one line) if it is malformed."""
+    with open(path, encoding="utf-8") as handle:
+        data = json.load(handle)
+    if not isinstance(data, dict) or data.get("schema") != SCHEMA:
+        raise ValueError(f"{path}: not an anchors file of schema {SCHEMA}")
+    if data.get("mechanism") != mechanism:
+        raise ValueError(f"{path}: anchors of mechanism {data.get('mechanism')!r}, not {mechanism!r}")
+    variables = data.get("variables")
+    if not isinstance(variables, dict) or not all(isinstance(v, dict) for v in variables.values()):
+        raise ValueError(f"{path}: 'variables' must map each variable to an object")
+    return MechanismAnchors(mechanism, variables)
+
+
+def load_anchors(mechanisms: Sequence[Tuple[str, str]]) -> Dict[str, MechanismAnchors]:
+    """Anchors of the (name, fragment file) mechanisms that have an anchors file beside them."""
+    found = {}
+    for name, fragment in mechanisms:
+        path = anchors_path(fragment, name)
+        if fragment and os.path.isfile(path):
+            found[name] = read_anchors(path, name)
+    return found
+
+
+class AnchoredSampler(Sampler):
+    """The demonstrated value transferred to the scene (then with spread), then the generic
+    sampler's proposals; the generic sampler verifies both."""
+
+    def __init__(self, generic: Sampler, anchor: Mapping[str, object], budget: SamplerBudget = SamplerBudget()):
+        super().__init__(budget)
+        self.generic, self.anchor = generic, anchor
+        self.budget = generic.budget
+
+    def propose(self, world: "World", request: SampleRequest, rng: np.random.Generator, budget: int) -> Iterator:
+        kind, count = self.anchor["kind"], self.sampler_budget.anchor_proposals
+        if kind == "grasp":
+            anchored = grasp_proposals(world, request.objects()[0], self.anchor, rng, self.sampler_budget)
+        elif kind == "contact":
+            target = request.objects()[-2]
+            anchored = contact_proposals(world, target, self.anchor, rng, self.sampler_budget)
+        else:
+            anchored = push_proposals(self.anchor, rng, self.sampler_budget)
+        yield from itertools.islice(anchored, count)
+        yield from self.generic.propose(world, request, rng, budget)
+
+    def verify(self, world: "World", request: SampleRequest, candidate, rng: np.random.Generator):
+        return self.generic.verify(world, request, candidate, rng)
+
+
+# -- transfer --------------------------------------------------------------------------
+def _box(anchor: Mapping[str, object]) -> Tuple[np.ndarray, np.ndarray]:
+    lo, hi = (np.asarray(v, dtype=float) for v in anchor["box"])
+    return (lo + hi) / 2, np.maximum(hi - lo, 1e-4)
+
+
+def _scaled(point: np.ndarray, demo_box, now_box, budget: SamplerBudget) -> np.ndarray:
+    """A point in a demonstration object's frame, moved with its box onto another box."""
+    (c0, size0), (c1, size1) = demo_box, now_box
+    scale = np.clip(size1 / size0, 1.0 / budget.anchor_max_scale, budget.anchor_max_scale)
+    return c1 + (point - c0) * scale
+
+
+def _mesh_box(world: "World", name: str) -> Tuple[np.ndarray, np.ndarray]:
+    lo, hi = body_mesh(world, name).bounds
+    return (lo + hi) / 2, np.maximum(hi - lo, 1e-4)
+
+
+def _turn_z(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def grasp_proposals(world: "World", obj: str, anchor: Mapping[str, object], rng: np.random.Generator,
+                    budget: SamplerBudget) -> Iterator[Grasp]:
+    """The demonstrated grasp on `obj` (its offset scaled to `obj`'s box), then spread around
+    it; the fingers close on what a ray along the closing axis meets (a grasp whose fingers
+    would close on nothing is skipped)."""
+    mesh = body_mesh(world, obj)
+    frame = pose_matrix(tuple(tuple(v) for v in anchor["in_object"]))
+    centre = _scaled(frame[:3, 3], _box(anchor), _mesh_box(world, obj), budget)
+    for k in itertools.count():
+        if k >= 4 * budget.anchor_proposals:
+            return
+        spread = pose_matrix(((0, 0, 0), (0, 0, 0, 1)))
+        if k:
+            angle = rng.normal(0.0, budget.anchor_turn)
+            axis = frame[:3, 2]   # turn about the approach axis
+            spread[:3, :3] = _rotation(axis, angle)
+        candidate = np.eye(4)
+        candidate[:3, :3] = spread[:3, :3] @ frame[:3, :3]
+        candidate[:3, 3] = centre + (rng.normal(0.0, budget.anchor_shift, 3) if k else 0.0)
+        pinch = _pinch(mesh, candidate)
+        if pinch is not None:
+            yield Grasp(obj, matrix_pose(candidate), float(np.linalg.norm(pinch[1] - pinch[0])),
+                        tuple(tuple(float(v) for v in q) for q in pinch))
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    axis = axis / max(np.linalg.norm(axis), 1e-12)
+    x, y, z = axis
+    k = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+def _pinch(mesh, frame: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """Where the fingers meet the surface closing along the frame's y axis from either side
+    (object frame), or None if they would close on nothing."""
+    centre, closing = frame[:3, 3], frame[:3, 1]
+    hits = []
+    for sign in (1.0, -1.0):
+        origin = centre + sign * closing * 0.2
+        points, _, _ = mesh.ray.intersects_location([origin], [-sign * closing])
+        if not len(points):
+            return None
+        hits.append(points[int(np.argmin(np.linalg.norm(points - origin, axis=1)))])
+    return hits[1], hits[0]
+
+
+def _reach_frame(world: "World", target: str) -> np.ndarray:
+    """Origin at the target, x horizontal from the robot's shoulder towards it, z up."""
+    centre = np.asarray(world.pose(target)[0], dtype=float)
+    x = centre - np.asarray(world.shoulder, dtype=float)
+    x[2] = 0.0
+    x /= max(np.linalg.norm(x), 1e-9)
+    frame = np.eye(4)
+    frame[:3, 0], frame[:3, 1], frame[:3, 2], frame[:3, 3] = x, np.cross([0.0, 0.0, 1.0], x), (0.0, 0.0, 1.0), centre
+    return frame
+
+
+def contact_proposals(world: "World", target: str, anchor: Mapping[str, object], rng: np.random.Generator,
+                      budget: SamplerBudget) -> Iterator[ContactCandidate]:
+    """The demonstrated contact in the target's frame and in the reach frame, in turns; the
+    first of each exactly, the rest turned about the vertical through the contact point and
+    shifted. The pusher's gripper frame follows from the current grasp on the tool."""
+    tool = world.attachment.name if world.attachment is not None else None
+    tcp = pose_matrix(world.held_tcp_in_object()) if tool is not None else np.eye(4)
+    in_target = _transferred(anchor["in_target"], pose_matrix(world.pose(target)), _box(anchor),
+                             _mesh_box(world, target), budget)
+    in_reach = _transferred(anchor["in_reach"], _reach_frame(world, target), None, None, budget)
+    for k in range(budget.anchor_proposals):
+        for pusher, point, direction, normal in (in_target, in_reach):
+            if k:
+                turn = np.eye(4)
+                turn[:3, :3] = _turn_z(rng.normal(0.0, budget.anchor_turn))
+                shift = np.eye(4)
+                shift[:2, 3] = rng.normal(0.0, budget.anchor_shift, 2)
+                about = np.eye(4)
+                about[:3, 3] = point
+                move = shift @ about @ turn @ np.linalg.inv(about)
+                pusher, direction, normal = move @ pusher, move[:3, :3] @ direction, move[:3, :3] @ normal
+                point = move[:3, 3] + move[:3, :3] @ point
+            yield ContactCandidate((pusher,), (pusher @ tcp,), normal * BACK if tool else -direction * BACK,
+                                   point, direction, normal)
+
+
+def _transferred(values: Mapping[str, object], frame: np.ndarray, demo_box, now_box,
+                 budget: SamplerBudget) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(pusher 4x4, point, direction, normal) in the world from their values in `frame`; with
+    boxes, the contact point moves with the box and the pusher keeps its offset from it."""
+    pusher = pose_matrix(tuple(tuple(v) for v in values["pusher"]))
+    point = np.asarray(values["point"], dtype=float)
+    if demo_box is not None:
+        moved = _scaled(point, demo_box, now_box, budget)
+        pusher[:3, 3] += moved - point
+        point = moved
+    rotation = frame[:3, :3]
+    direction = rotation @ np.asarray(values["direction"], dtype=float)
+    direction[2] = 0.0   # pushes run along the support
+    direction /= max(np.linalg.norm(direction), 1e-9)
+    return frame @ pusher, frame[:3, :3] @ point + frame[:3, 3], direction, rotation @ np.asarray(values["normal"])
+
+
+def push_proposals(anchor: Mapping[str, object], rng: np.random.Generator, budget: SamplerBudget) -> Iterator[float]:
+    """The demonstrated distance past first contact, then spread (relative) around it."""
+    distance = float(anchor["distance"])
+    yield distance
+    while True:
+        yield float(np.clip(distance * (1.0 + rng.normal(0.0, budget.anchor_distance_spread)), 0.01, 0.6))
+
+
+def anchored_variables(anchors: MechanismAnchors) -> List[str]:
+    """The variables a mechanism's anchors cover (for messages)."""
+    return sorted(anchors.variables)
