@@ -738,3 +738,24 @@ def test_the_learning_report_flags_an_auc_measured_on_few_rows():
     text = report_markdown("com", reports, {"totals": {}}, {"task": "com", "seconds_training": 1.0,
                                                             "seconds_selfplay": 1.0, "command": "c"}, "x.png")
     assert "| 1.000 (only 4 rows) |" in text and "| 0.800 |" in text
+
+
+def test_learn_train_refuses_classifiers_it_could_not_validate(com_fragment, tmp_path, monkeypatch, capsys):
+    """Self-play with one success in 30 leaves the held-out episodes one class: the classifiers
+    cannot be validated, so no checkpoint is written and the fragment keeps its text."""
+    from pdsketch_mech.commands import learn_train
+    from pdsketch_mech.learning.sampler_training import ParamReport
+    from pdsketch_mech.lang.parser import parse_file
+
+    mechanism = parse_file(com_fragment).mechanisms[0]
+    before = open(com_fragment, encoding="utf-8").read()
+    monkeypatch.setattr(learn_train, "read_episodes", lambda data, count=None: [object()] * 30)
+    monkeypatch.setattr(learn_train, "parent_specs", lambda episodes: {"?g": ()})
+    monkeypatch.setattr(learn_train, "train_mechanism", lambda episodes, config, progress: (
+        object(), [ParamReport("?g", "grasp", rows=40, positives=1)]))   # auc None: one class held out
+    checkpoint = str(tmp_path / "com.samplers.safetensors")
+    with pytest.raises(learn_train.Unvalidated) as refused:
+        learn_train.train_and_save("com", mechanism, com_fragment, str(tmp_path), checkpoint,
+                                   learn_train.default_config(1, 0), {}, {"command": "x"}, quiet=True)
+    assert refused.value.variables == ["?g"] and refused.value.episodes == 30
+    assert not os.path.exists(checkpoint) and open(com_fragment, encoding="utf-8").read() == before

@@ -47,8 +47,10 @@ from typing import Dict, List, Optional, Sequence
 
 from ..learning.paths import NAME, repo_path
 from ..util.progress import progress_bar
+from ..lang.errors import PddlError
 from .common import (
-    ArgumentParser, EXIT_OK, EXIT_UNSOLVED, count, fail, output_error, output_folder, seconds, seed, whole,
+    ArgumentParser, EXIT_OK, EXIT_UNSOLVED, count, fail, output_error, output_folder, print_error, seconds, seed,
+    whole,
 )
 
 
@@ -152,7 +154,7 @@ def selfplay_command(args) -> int:
 
 def train_command(args) -> int:
     from ..learning.selfplay_store import StoreError, first_episodes
-    from .learn_train import checkpoint_for, default_config, train_and_save
+    from .learn_train import Unvalidated, checkpoint_for, default_config, train_and_save
 
     prepared = _prepare_selfplay(args)
     if isinstance(prepared, int):
@@ -185,6 +187,13 @@ def train_command(args) -> int:
                                  default_config(args.epochs, args.seed), manifest, info, count=args.episodes)
     except StoreError as exc:
         return fail(str(exc))
+    except Unvalidated as exc:
+        print_error(PddlError(f"mechanism {mechanism.name}: the classifiers of {', '.join(exc.variables)} could not be "
+                              f"validated (the held-out self-play episodes' proposals are all of one class; "
+                              f"{exc.episodes} episodes used): no checkpoint written and the fragment unchanged; "
+                              "play more --episodes, or narrow the task distribution so that more of them succeed",
+                              mechanism.loc))
+        return EXIT_UNSOLVED
     if trained and args.compare:
         _compare(mechanism.name, config, checkpoint, args.compare)
     return EXIT_OK if trained else EXIT_UNSOLVED

@@ -85,11 +85,21 @@ def check_parameters(data: str, fragment: str, mechanism, variables: Sequence[st
                          "use a new --out, or delete the folder to play them again")
 
 
+class Unvalidated(Exception):
+    """Classifiers that no held-out episode could validate (its proposals all of one class)."""
+
+    def __init__(self, variables: Sequence[str], positives: int, episodes: int):
+        super().__init__(", ".join(variables))
+        self.variables, self.positives, self.episodes = list(variables), positives, episodes
+
+
 def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: str, config: TrainConfig,
                    manifest: Dict[str, object], info: Dict[str, object], quiet: bool = False,
                    count: Optional[int] = None) -> int:
     """Train on the episodes 0..count-1 in `data` (all if None), write checkpoint + metadata +
-    report, point the fragment at the checkpoint. Returns how many classifiers were trained."""
+    report, point the fragment at the checkpoint. Returns how many classifiers were trained.
+    Unvalidated (nothing written, the fragment untouched) if a trained classifier could not
+    be validated on the held-out episodes."""
     episodes = read_episodes(data, count)
     if count is not None:
         manifest = first_episodes(manifest, count)  # the report describes the data trained on
@@ -109,6 +119,9 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
         # it once more (a refresh here would print its last line twice into a log).
         bar.total = bar.n
     info = {**info, "seconds_training": time.perf_counter() - started}
+    unvalidated = [r for r in reports if not r.skipped and r.auc is None]
+    if unvalidated:   # a classifier nothing held out could test is not handed to the planner
+        raise Unvalidated([r.variable for r in unvalidated], sum(r.positives for r in reports), len(episodes))
     rows = sum(r.rows for r in reports)
     meta = {"fragment": os.path.relpath(fragment, os.path.dirname(checkpoint)), "seed": config.seed,
             "epochs": config.epochs, "episodes": len(episodes), "rows": rows,
