@@ -129,3 +129,17 @@ def test_motion_plans_depend_on_the_seed_alone():
                 not np.allclose(other.path, first.path)
             return
     pytest.fail("no query needed the random search")
+
+
+def test_a_placeholder_drawn_again_is_printed_apart(monkeypatch):
+    """Two pushes from one optimistic contact are two values: the second is `#contact4.2`, in
+    its arguments and its parameters alike (what `replay` reads)."""
+    import pdsketch_mech.planner.serialize as serialize
+    from pdsketch_mech.planner.skeleton import Step
+
+    monkeypatch.setattr(serialize, "to_json", lambda value: {"value": value})
+    push = Step("transit-cont", ("box", "table", "#contact4", "#traj20"), 0)
+    entries = plan_entries([push, push], [{"#contact4": 1.0, "#traj20": 2.0}, {"#contact4": 3.0, "#traj20": 4.0}])
+    assert entries[0]["args"][2:] == ["#contact4", "#traj20"]
+    assert entries[1]["args"][2:] == ["#contact4.2", "#traj20.2"]
+    assert entries[1]["params"] == {"#contact4.2": {"value": 3.0}, "#traj20.2": {"value": 4.0}}

@@ -38,10 +38,19 @@ def to_json(value: object) -> Dict[str, Any]:
 
 
 def plan_entries(steps: Sequence["Step"], values: Sequence[Dict[str, object]]) -> List[Dict[str, Any]]:
-    """A refined skeleton as the `plan` entries of the JSON document (what `replay` reads)."""
-    return [{"name": step.name, "args": list(step.args), "mechanism": step.mechanism,
-             "params": {name: to_json(value) for name, value in step_values.items()}}
-            for step, step_values in zip(steps, values)]
+    """A refined skeleton as the `plan` entries of the JSON document (what `replay` reads).
+    A placeholder a later step draws again (two pushes from one optimistic contact) is another
+    value: it is named apart there (`#contact4`, then `#contact4.2`)."""
+    drawn: Dict[str, int] = {}
+    entries = []
+    for step, step_values in zip(steps, values):
+        names = {}
+        for name in step_values:
+            drawn[name] = drawn.get(name, 0) + 1
+            names[name] = name if drawn[name] == 1 else f"{name}.{drawn[name]}"
+        entries.append({"name": step.name, "args": [names.get(a, a) for a in step.args], "mechanism": step.mechanism,
+                        "params": {names[name]: to_json(value) for name, value in step_values.items()}})
+    return entries
 
 
 def from_json(data: Dict[str, Any]) -> object:
