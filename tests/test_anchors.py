@@ -100,3 +100,11 @@ def test_an_anchored_pull_off_a_shelf_plans_where_generic_samplers_do_not(extrac
     assert document["status"] == "solved" and document["replay"]["goal_reached"]
     assert [entry["mechanism"] for entry in document["plan"]] == ["shelf-pull"] * 3
     assert document["stats"]["proposals"]["anchored"].get("push-motion", 0) >= 1
+
+
+def test_extraction_says_in_plain_words_what_the_mechanism_needs_and_what_it_left_open(tmp_path):
+    done, _, _ = _extract(tmp_path)
+    err = done.stderr
+    assert "shelf-pull needs: the hand is empty; ?tool (hook) rests on ?support (table)" in err
+    assert "shelf-pull certifies: ?target rests on ?support; the hand is empty" in err
+    assert "may be one object or two: ?support and ?target-support" in err

@@ -50,6 +50,7 @@ def extract_command(args) -> int:
 
 def _extract(args, recording, name: str, out: str, command: str) -> int:
     from ..learning.extract import check_fragment, extract, fragment_text
+    from ..learning.summary import mechanism_summary
     from ..learning.steps import ExtractionError
     from ..learning.timeline import timeline_text
 
@@ -76,17 +77,25 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
             why = _what_differs(out, existing_text, text, fragment)
             return fail(f"{shown_path(out)} exists and differs: {why} (use --force to replace it)")
     anchors_out, anchors = _anchors(extraction, out)
-    if status != "wrote" and not args.force and os.path.exists(anchors_out):
+    anchors_status = "wrote"
+    if os.path.exists(anchors_out):
         with open(anchors_out, encoding="utf-8") as handle:
-            if handle.read() != anchors:
-                return fail(f"{shown_path(anchors_out)} exists and differs: another demonstration's values "
-                            "(use --force to replace it)")
+            anchors_status = "unchanged" if handle.read() == anchors else anchors_status
+        if anchors_status == "wrote" and not args.force:
+            return fail(f"{shown_path(anchors_out)} exists and differs: another demonstration's values "
+                        "(use --force to replace it)")
     if status == "wrote":
         write_text(out, text)
-    write_text(anchors_out, anchors)
+    if anchors_status == "wrote":
+        write_text(anchors_out, anchors)
     steps = " ".join(st.text(extraction.names) for st in extraction.explanation.steps)
     print(f"{status} {shown_path(out)}: mechanism {name}, {len(extraction.explanation.steps)} steps {steps}; "
           f"{time.perf_counter() - start:.1f} s", file=sys.stderr)
+    print(f"{anchors_status} {shown_path(anchors_out)}: what the demonstration did, which its samplers try first",
+          file=sys.stderr)
+    demo_objects = {variable: extraction.names[body] for body, variable in extraction.lifted.roles.items()}
+    for line in mechanism_summary(fragment.mechanisms[0], demo_objects):
+        print("  " + line, file=sys.stderr)
     if args.render:
         frames = _render(extraction, args.render)
         print(f"wrote {args.render} (key frames {', '.join(map(str, frames))})", file=sys.stderr)
