@@ -194,3 +194,12 @@ def test_position_without_z_off_its_support_is_an_error(write_files, capsys):
     assert run_check(capsys, BASIS, problem) == (
         2, [f"{problem}:9:5: error: scene object 'plate': 'table' is not under it at x = 0.5, y = 1.5: it has "
             "nowhere to rest (give x and y over 'table', or a z)"])
+
+
+def test_check_reach_says_which_objects_the_hand_can_grasp_where_they_stand(capsys):
+    """The user's shelf scene: the stick on the table is graspable, the box on the far shelf not."""
+    status = check.main([os.path.join(ROOT, "problems", "contract", "user-shelf-far.pddl"), "--reach"])
+    out = capsys.readouterr().out
+    assert status == 0
+    assert "reach: hook: graspable where it stands" in out
+    assert "reach: box: not graspable where it stands" in out

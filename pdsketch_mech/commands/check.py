@@ -104,6 +104,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("-q", "--quiet", action="store_true", help="print errors and warnings only")
     parser.add_argument("--no-learned-samplers", action="store_true",
                         help="as plan's: do not load the mechanisms' learned samplers (a missing one is a warning)")
+    parser.add_argument("--reach", action="store_true",
+                        help="for a problem with a scene, say per movable object whether the hand can grasp it "
+                             "where it stands (docs/first-problem.md: reach)")
     max_ground_option(parser)
     args = parser.parse_args(argv)
     learned = not args.no_learned_samplers
@@ -164,4 +167,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"{path}: ok: problem '{problem.name}' for domain '{domain.domain.name}': "
                   f"{_plural(len(problem.objects), 'object')}, {_plural(len(problem.init), 'initial fact')}"
                   f"{scene}")
+        if args.reach and problem.scene is not None:
+            from .check_reach import reach_report
+            for line in reach_report(problem):
+                print(f"  reach: {line}")
     return EXIT_BAD_INPUT if failures else EXIT_OK
