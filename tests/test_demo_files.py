@@ -136,7 +136,7 @@ def test_a_blocked_pose_names_what_the_arm_would_hit(tmp_path, capsys):
     path = write_demo(tmp_path, [{"do": "open"}, {"do": "move", "to": {"object": "flat", "at": "top",
                                                                         "offset": {"down": 0.01}}}])
     status, line = record(path, capsys)
-    assert status == 1 and "step 2 (move): no way to approach" in line and "would hit 'flat'" in line, line
+    assert status == 1 and "step 2 (move): no way to approach" in line and "would hit: the panda_" in line and "mm into 'flat'" in line, line
 
 
 def test_until_touches_explains_what_touching_means(tmp_path, capsys):

@@ -7,7 +7,7 @@ PyBullet also reports near-contacts inside its margin; only penetrations deeper 
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Collection, Iterable, Iterator, Mapping, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Collection, Dict, Iterable, Iterator, Mapping, Optional, Sequence, Tuple
 
 import pybullet as p
 
@@ -67,6 +67,33 @@ class CollisionChecker:
                     hit.add(names.get(contact[2], str(contact[2])))
         hit.discard(world.attachment.name if world.attachment else None)
         return hit
+
+
+    def hits(self, q: Sequence[float]) -> str:
+        """What the arm (or held object) penetrates at `q`, for messages: per body hit, which
+        part of ours goes deepest into it and how far (`the panda_hand 7 mm into 'tray'`)."""
+        world = self.world
+        self.collides(q)
+        names = {body.id: name for name, body in world.bodies.items()}
+        names[world.robot] = "robot"
+        names[world.mount] = "the robot's mount"
+        held = world.bodies[world.attachment.name].id if world.attachment else None
+        deepest: Dict[str, Tuple[float, str]] = {}
+        for body_id in [world.robot] + ([held] if held is not None else []):
+            for contact in p.getContactPoints(bodyA=body_id, physicsClientId=world.client):
+                if contact[8] >= -PENETRATION or (body_id == world.robot and contact[3] == -1) \
+                        or contact[2] in self.ignore_ids or contact[2] == held:
+                    continue
+                if body_id == world.robot:
+                    part = "the " + p.getJointInfo(world.robot, contact[3], physicsClientId=world.client)[12].decode()
+                else:
+                    part = f"the held '{world.attachment.name}'"
+                other = names.get(contact[2], str(contact[2]))
+                if other not in deepest or contact[8] < deepest[other][0]:
+                    deepest[other] = (contact[8], part)
+        return ", ".join(f"{part} {-depth * 1000:.0f} mm into " + (f"'{other}'" if other != "robot" and not
+                                                                    other.startswith("the ") else other)
+                         for other, (depth, part) in sorted(deepest.items())) or "nothing"
 
 
 def _closest_points(world: "World", name: str) -> Iterator[Tuple[int, float, float]]:

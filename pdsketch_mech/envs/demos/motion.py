@@ -51,10 +51,6 @@ class Failure:
         return self.reason
 
 
-def _names(bodies) -> str:
-    return ", ".join(f"'{b}'" if not b.startswith("the ") and b != "robot" else b for b in sorted(bodies)) or "itself"
-
-
 def frame_quat(approach: Sequence[float], closing: Sequence[float]) -> tuple:
     """The gripper frame's orientation (panda_grasptarget: z = approach, y = closing axis)."""
     z = np.asarray(approach, dtype=float)
@@ -136,13 +132,13 @@ class Driver:
                     why.note(1, f"the arm cannot get {back:.2f} m before it to come in straight")
                     continue
                 with world.saved():
-                    hit = checker.colliding_bodies(q) if checker.collides(q) else None
-                    hit_pre = None if hit is not None or not checker.collides(q_pre) else checker.colliding_bodies(q_pre)
+                    hit = checker.hits(q) if checker.collides(q) else None
+                    hit_pre = None if hit is not None or not checker.collides(q_pre) else checker.hits(q_pre)
                 if hit is not None:
-                    why.note(2, f"there, {self._hitter()} would hit {_names(hit)}")
+                    why.note(2, f"there, {self._hitter()} would hit: {hit}")
                     continue
                 if hit_pre is not None:
-                    why.note(2, f"{back:.2f} m before it, {self._hitter()} would hit {_names(hit_pre)}")
+                    why.note(2, f"{back:.2f} m before it, {self._hitter()} would hit: {hit_pre}")
                     continue
                 path = cartesian_path(world, q_pre, axis, back, self.rng)
                 if path is None:
