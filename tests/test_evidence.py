@@ -188,26 +188,16 @@ def test_the_steps_that_got_past_a_dead_step_lift_every_mechanism_that_takes_it_
 
 
 def test_a_mechanism_whose_promise_keeps_failing_weighs_on_every_skeleton_that_uses_it():
-    """Laplace's rule over the mechanism's outcomes in every skeleton, whatever grounding:
+    """Laplace's rule over the mechanism's outcomes in other skeletons, whatever grounding:
     a user's trick whose certified facts failed 40 times never ranks with an unknown plan."""
     evidence = _evidence()
     assert evidence.log_kept("hook-use") == 0.0                     # nothing known: the uninformed 1/2
     evidence._promises["hook-use"] = [0, 40]
     assert math.exp(evidence.log_kept("hook-use")) == pytest.approx(2 / 42)
+    evidence._promises_by_owner[("hook-use", 7)] = [0, 40]
+    assert evidence.log_kept("hook-use", owner=7) == 0.0            # its own failures are in its effort
     evidence._promises["hook-use"] = [30, 20]
     assert evidence.log_kept("hook-use") == 0.0                     # it works more often than not: no weight
-
-
-def test_a_skeletons_own_broken_promises_shrink_its_share():
-    """A mechanism's broken promises in the skeleton itself count too: the first skeleton of a
-    plan, whose user trick fails again and again, must not keep the lion's share of the work."""
-    evidence = _evidence()
-    pull = _sk([Step("grasp", ("tool", "table", "#g1"), HELD | TOOL_ON_TABLE),
-                Step("move-cont", ("tool", "box", "shelf", "#c1", "#t1"), HELD, "shelf-pull", ((TOOL_ON_SLOPE, 0),),
-                     1, ("tool", "box"))], 1)
-    assert evidence.estimate(pull, pull.number) == 1.0
-    _outcomes(evidence, pull, 1, False, 10)
-    assert evidence.estimate(pull, pull.number) == pytest.approx(2 / 12)   # Laplace: 2 (0 + 1) / (0 + 10 + 2)
 
 
 def test_a_way_past_a_dead_step_keeps_its_gain_while_the_step_is_revisited():

@@ -34,8 +34,7 @@ every visit that found no value. What the store holds, and the factor each gives
   object of a dead step, change nothing the planner knows needs changing: each counts as a
   step with the uninformed chance 1/2 of being needed.
 - **promises**: per mechanism, whatever its grounding, how often its last step simulated as
-  promised in every skeleton, this one's included: Laplace's rule against the uninformed 1/2,
-  never above 1.
+  promised in the other skeletons: Laplace's rule against the uninformed 1/2, never above 1.
 - **learned groundings**: with learned samplers, how far a mechanism grounding's classifier
   scores fall behind its best rival's (promise.py), as a log-probability ratio, never below
   `floor` on its own: a classifier wrong about a shape costs a bounded factor, which evidence
@@ -93,8 +92,9 @@ class Evidence:
         # past a dead step, what matters is that the steps before moved its objects.
         self._passed: Set[Tuple[StepKey, Tuple[Asked, ...]]] = set()
         self._detours: Dict[Tuple[int, ...], Tuple[int, int]] = {}   # plan -> (flagged, detour operators)
-        # Per mechanism: its last step simulated as promised, or not.
+        # Per mechanism (and per skeleton): its last step simulated as promised, or not.
         self._promises: Dict[str, List[int]] = defaultdict(lambda: [0, 0])
+        self._promises_by_owner: Dict[Tuple[str, int], List[int]] = defaultdict(lambda: [0, 0])
 
     # -- what refinement reports ------------------------------------------------------
     def simulated(self, skeleton: Skeleton, index: int, ok: bool) -> None:
@@ -108,6 +108,7 @@ class Evidence:
         step = skeleton.steps[index] if index < len(skeleton.steps) else None
         if step is not None and step.certified:   # a mechanism kept its promise, or not
             self._promises[step.mechanism][0 if ok else 1] += 1
+            self._promises_by_owner[(step.mechanism, skeleton.number)][0 if ok else 1] += 1
         if total[0]:   # the step works here: its outcomes here say how often it works where it does
             added = total if ok and total[0] == 1 else ((1, 0) if ok else (0, 1))
             for counts in (self._working[question[0]], self._working_all):
@@ -223,22 +224,22 @@ class Evidence:
             for context, question in set(zip(skeleton.contexts, skeleton.questions)):
                 outcomes += self.log_lift(context, question, owner)
         groundings = sum(self.promise.gap(g, promised) for g, promised in set(skeleton.groundings()))
-        kept = sum(self.log_kept(mechanism) for mechanism in {g[0] for g, _ in skeleton.groundings()})
+        kept = sum(self.log_kept(mechanism, owner) for mechanism in {g[0] for g, _ in skeleton.groundings()})
         # A classifier wrong about a shape costs at most `floor`, whatever else is known.
         return {"outcomes": outcomes, "detours": -math.log(2.0) * self.detours(skeleton.plan),
                 "groundings": min(0.0, max(math.log(self.floor), groundings)), "promises": kept}
 
-    def log_kept(self, mechanism: str) -> float:
-        """How often `mechanism` kept its promise, in every skeleton (this one's too), whatever
-        its grounding, as a natural log: 2 (s + 1) / (s + f + 2) against the uninformed 1/2
-        (Laplace's rule), never above 1. Unlike a step's outcomes, a skeleton's own broken
-        promises count: they say how often one more try keeps it, not only that the skeleton
-        has had work (its effort). A mechanism whose certified facts keep failing (a user's
-        trick whose effect the generic samplers rarely reproduce) so gets a shrinking share,
-        never below `floor`, in every skeleton that uses it; once it works, little changes."""
-        kept, broken = self._promises.get(mechanism, (0, 0))
-        if not kept + broken:
+    def log_kept(self, mechanism: str, owner: int = 0) -> float:
+        """How often `mechanism` kept its promise in other skeletons, whatever its grounding,
+        as a natural log: 2 (s + 1) / (s + f + 2) against the uninformed 1/2 (Laplace's rule),
+        never above 1. A mechanism whose certified facts keep failing (a user's trick whose
+        effect the generic samplers rarely reproduce) weighs on every skeleton that uses it,
+        new groundings included; once it works, little."""
+        total = self._promises.get(mechanism)
+        if total is None:
             return 0.0
+        own = self._promises_by_owner.get((mechanism, owner), (0, 0))
+        kept, broken = total[0] - own[0], total[1] - own[1]
         return min(0.0, math.log(2.0 * (kept + 1) / (kept + broken + 2)))
 
     def estimate(self, skeleton: Skeleton, owner: int = 0) -> float:
