@@ -518,7 +518,7 @@ def test_the_mechanism_steps_know_their_variables():
 @pytest.mark.slow
 def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsys):
     data = str(tmp_path / "data")
-    assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
+    assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data, "--unvalidated",
                        "--fragment", com_fragment, "--task", "com", "--compare", "1"]) == 0
     folder = os.path.dirname(com_fragment)
     for suffix in (".samplers.safetensors", ".samplers.json", ".samplers.md", ".samplers.png", ".samplers-fig8.png"):
@@ -528,11 +528,11 @@ def test_learn_train_then_plan_with_the_checkpoint(com_fragment, tmp_path, capsy
     with open(com_fragment, encoding="utf-8") as handle:
         assert ':sampler "com.samplers.safetensors"' in handle.read()
     capsys.readouterr()
-    assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data,
+    assert learn.main(["train", "com", "--episodes", "4", "--epochs", "2", "--out", data, "--unvalidated",
                        "--fragment", com_fragment, "--task", "com"]) == 2  # not replaced without --force
     assert "exists: --force replaces it" in capsys.readouterr().err
     # Training reads episodes 0 and 1 of the 4 on disk, and the recorded command asks for 2.
-    assert learn.main(["train", "com", "--episodes", "2", "--epochs", "2", "--out", data,
+    assert learn.main(["train", "com", "--episodes", "2", "--epochs", "2", "--out", data, "--unvalidated",
                        "--fragment", com_fragment, "--task", "com", "--force"]) == 0
     import json
     with open(os.path.join(folder, "com.samplers.json"), encoding="utf-8") as handle:

@@ -85,6 +85,9 @@ def _parser() -> ArgumentParser:
                        "(default domains/mechanisms/NAME.samplers.safetensors); the fragment's "
                        ":sampler is pointed at it")
     train.add_argument("--force", action="store_true", help="replace an existing checkpoint")
+    train.add_argument("--unvalidated", action="store_true",
+                       help="write the checkpoint even if a classifier could not be validated on held-out episodes "
+                            "(a quick trial run), with a warning; by default nothing is written")
     train.add_argument("--compare", type=whole, default=0, metavar="N",
                        help="then plan N dev instances with the generic and the learned samplers (120 s each) and "
                             "add the table and the per-sampler breakdown (the paper's Fig. 8) to the report "
@@ -181,10 +184,13 @@ def train_command(args) -> int:
         words += ["--epochs", str(args.epochs)]
     if args.checkpoint is not None:
         words += ["--checkpoint", repo_path(checkpoint)]
+    if args.unvalidated:
+        words += ["--unvalidated"]
     info = {"command": " ".join(words), "task": config.task, "seconds_selfplay": selfplay_s}
     try:
         trained = train_and_save(mechanism.name, mechanism, config.fragment, out, checkpoint,
-                                 default_config(args.epochs, args.seed), manifest, info, count=args.episodes)
+                                 default_config(args.epochs, args.seed), manifest, info, count=args.episodes,
+                                 unvalidated=args.unvalidated)
     except StoreError as exc:
         return fail(str(exc))
     except Unvalidated as exc:

@@ -95,11 +95,11 @@ class Unvalidated(Exception):
 
 def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: str, config: TrainConfig,
                    manifest: Dict[str, object], info: Dict[str, object], quiet: bool = False,
-                   count: Optional[int] = None) -> int:
+                   count: Optional[int] = None, unvalidated: bool = False) -> int:
     """Train on the episodes 0..count-1 in `data` (all if None), write checkpoint + metadata +
     report, point the fragment at the checkpoint. Returns how many classifiers were trained.
     Unvalidated (nothing written, the fragment untouched) if a trained classifier could not
-    be validated on the held-out episodes."""
+    be validated on the held-out episodes, unless `unvalidated` (then a warning)."""
     episodes = read_episodes(data, count)
     if count is not None:
         manifest = first_episodes(manifest, count)  # the report describes the data trained on
@@ -119,9 +119,12 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
         # it once more (a refresh here would print its last line twice into a log).
         bar.total = bar.n
     info = {**info, "seconds_training": time.perf_counter() - started}
-    unvalidated = [r for r in reports if not r.skipped and r.auc is None]
-    if unvalidated:   # a classifier nothing held out could test is not handed to the planner
-        raise Unvalidated([r.variable for r in unvalidated], sum(r.positives for r in reports), len(episodes))
+    untested = [r.variable for r in reports if not r.skipped and r.auc is None]
+    if untested and not unvalidated:   # a classifier nothing held out could test is not handed to the planner
+        raise Unvalidated(untested, sum(r.positives for r in reports), len(episodes))
+    if untested:
+        print(f"warning: mechanism {name}: the classifiers of {', '.join(untested)} could not be validated "
+              "(--unvalidated: written anyway)", file=sys.stderr)
     rows = sum(r.rows for r in reports)
     meta = {"fragment": os.path.relpath(fragment, os.path.dirname(checkpoint)), "seed": config.seed,
             "epochs": config.epochs, "episodes": len(episodes), "rows": rows,
