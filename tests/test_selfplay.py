@@ -361,6 +361,6 @@ def test_resume_is_announced_and_train_reads_the_first_n_episodes(com_copy, tmp_
     # Episodes 0 and 1 of the 3 on disk, and the command that makes this checkpoint again.
     assert meta["episodes"] == 2
     assert meta["command"] == (f"python -m pdsketch_mech.learn train com --episodes 2 --seed 0 --budget 60 "
-                               f"--fragment {com_copy} --task com --out {data} --epochs 1 --checkpoint {weights}")
+                               f"--fragment {com_copy} --task com --out {data} --epochs 1 --checkpoint {weights} --unvalidated")
     with open(weights.replace(".safetensors", ".md"), encoding="utf-8") as handle:
         assert "Self-play: 2 episodes" in handle.read()
