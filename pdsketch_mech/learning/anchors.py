@@ -17,7 +17,7 @@ from typing import Dict, List, Mapping, Optional, Tuple
 import numpy as np
 
 from ..lang.nodes import Action, Atom, Domain, Stream
-from ..samplers.anchored import SCHEMA
+from ..samplers.anchored import SCHEMA, edge_distance
 from ..samplers.geometry import body_mesh, matrix_pose, pose_matrix
 from ..symbolic.normalize import dnf
 from ..world.robot import Kinematics
@@ -80,7 +80,7 @@ def demonstration_anchors(extraction: Extraction, basis: Domain, world: World) -
                     anchor = _contact(world, kinematics, recording, names, pusher, objects[-2],
                                       (segment.start, segment.end), roles)
                 elif sampler == "push-motion":
-                    anchor = _push(kinematics, arrays, step, (segment.start, segment.end))
+                    anchor = _push(world, kinematics, extraction, step, (segment.start, segment.end))
                 if anchor is not None:
                     variables[variable] = anchor
     finally:
@@ -179,12 +179,29 @@ def _first_touch(recording, pusher: int, target: int, span: Tuple[int, int]
     return None
 
 
-def _push(kinematics, arrays, step, span: Tuple[int, int]) -> Optional[Dict[str, object]]:
-    """How far the pusher went along the push (first contact to the segment's end)."""
-    pusher = step.objects[0] if step.operator and len(step.objects) >= 3 else None
-    start = _tcp(kinematics, arrays, span[0])[:3, 3] if pusher is None else _pose(arrays, pusher, span[0])[:3, 3]
-    end = _tcp(kinematics, arrays, span[1])[:3, 3] if pusher is None else _pose(arrays, pusher, span[1])[:3, 3]
-    travel = end - start
+def _push(world, kinematics, extraction: Extraction, step, span: Tuple[int, int]) -> Optional[Dict[str, object]]:
+    """How far the pusher went along the push (first contact to the segment's end); where the
+    target left its support, how far past the support's edge (the target may lie farther from
+    the edge in another scene)."""
+    arrays = extraction.segmentation.recording.arrays
+    hand = len(step.objects) < 3   # transit-cont (?y ?s): the bare hand; move-cont (?x ?y ?s): a held tool
+    pusher = None if hand else step.objects[0]
+    target, support = step.objects[-2], step.objects[-1]
+
+    def at(frame: int) -> np.ndarray:
+        return _tcp(kinematics, arrays, frame)[:3, 3] if pusher is None else _pose(arrays, pusher, frame)[:3, 3]
+    travel = at(span[1]) - at(span[0])
     travel[2] = 0.0
     distance = float(np.linalg.norm(travel))
-    return {"kind": "push", "distance": distance} if math.isfinite(distance) and distance > 0.0 else None
+    if not (math.isfinite(distance) and distance > 0.0):
+        return None
+    anchor: Dict[str, object] = {"kind": "push", "distance": distance}
+    seg = extraction.segmentation
+    later = min(seg.recording.frames - 1, span[1] + int(round(float(seg.recording.header.get("rate_hz", 60.0)))))
+    if support not in seg.supports_of(target, later):   # it came off its support: the edge is what mattered
+        names = extraction.names
+        edge = edge_distance(_pose(arrays, target, span[0])[:3, 3], travel / distance, _pose(arrays, support, span[0]),
+                             body_mesh(world, names[support]).bounds)
+        if edge is not None:
+            anchor["past_edge"] = distance - edge
+    return anchor

@@ -9,7 +9,8 @@ in docs/mechanisms.md):
   contact point, push direction and the target's outward normal there, each twice: in the
   target's frame (with its bounding box) and in the *reach frame* (origin at the target, x
   horizontal from the robot's shoulder towards it, z up: "pull it towards me");
-- **push**: how far the push went past first contact.
+- **push**: how far the push went past first contact, and, where it carried the target off its
+  support, how far past the support's edge.
 
 `AnchoredSampler` proposes these transferred to the scene first (a box of another size scales
 the offsets, another pose turns them, and all but the first get spread), then the generic
@@ -100,7 +101,7 @@ class AnchoredSampler(Sampler):
             target = request.objects()[-2]
             anchored = contact_proposals(world, target, self.anchor, rng, self.sampler_budget)
         else:
-            anchored = push_proposals(self.anchor, rng, self.sampler_budget)
+            anchored = push_proposals(self.anchor, rng, self.sampler_budget, world, request.values()[0])
         yield from itertools.islice(anchored, count)
         yield from self.generic.propose(world, request, rng, budget)
 
@@ -231,11 +232,35 @@ def _transferred(values: Mapping[str, object], frame: np.ndarray, demo_box, now_
     return frame @ pusher, frame[:3, :3] @ point + frame[:3, 3], direction, rotation @ np.asarray(values["normal"])
 
 
-def push_proposals(anchor: Mapping[str, object], rng: np.random.Generator, budget: SamplerBudget) -> Iterator[float]:
-    """The demonstrated distance past first contact, then spread (relative) around it."""
-    distance = float(anchor["distance"])
-    yield distance
-    while True:
+def edge_distance(centre: np.ndarray, direction: np.ndarray, support: np.ndarray, bounds: np.ndarray) -> Optional[float]:
+    """How far `centre` (world) goes along the horizontal `direction` before it leaves the
+    top of a support whose pose is `support` (4x4) and whose box in its own frame is `bounds`
+    ((lo, hi)); None if it is not above that box."""
+    inverse = np.linalg.inv(support)
+    p, d = (inverse[:3, :3] @ centre + inverse[:3, 3])[:2], (inverse[:3, :3] @ direction)[:2]
+    lo, hi = np.asarray(bounds[0], dtype=float)[:2], np.asarray(bounds[1], dtype=float)[:2]
+    if np.any(p < lo) or np.any(p > hi) or not np.any(np.abs(d) > 1e-9):
+        return None
+    exits = [((hi[i] if d[i] > 0 else lo[i]) - p[i]) / d[i] for i in range(2) if abs(d[i]) > 1e-9]
+    return float(min(exits))
+
+
+def push_proposals(anchor: Mapping[str, object], rng: np.random.Generator, budget: SamplerBudget,
+                   world: Optional["World"] = None, contact=None) -> Iterator[float]:
+    """The demonstrated push: where it carried the target past its support's edge, as far past
+    the edge as in the demonstration (the target may lie farther from the edge here); and the
+    demonstrated distance itself. Then spread (relative) around them, in turns."""
+    distances = [float(anchor["distance"])]
+    if anchor.get("past_edge") is not None and world is not None and contact is not None:
+        support = contact.support
+        edge = edge_distance(np.asarray(world.pose(contact.target)[0], dtype=float),
+                             np.asarray(contact.direction, dtype=float), pose_matrix(world.pose(support)),
+                             body_mesh(world, support).bounds)
+        if edge is not None:
+            distances.insert(0, float(np.clip(edge + float(anchor["past_edge"]), 0.01, 0.6)))
+    yield from distances
+    for k in itertools.count():
+        distance = distances[k % len(distances)]
         yield float(np.clip(distance * (1.0 + rng.normal(0.0, budget.anchor_distance_spread)), 0.01, 0.6))
 
 
