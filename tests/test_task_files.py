@@ -176,3 +176,17 @@ def test_selfplay_plays_a_distribution_file(tmp_path, capsys):
     assert "1 episodes in" in err and status in (0, 1)
     manifest = json.load(open(tmp_path / "data" / "manifest.json"))
     assert manifest["config"]["task"] == str(folder / "push-to-edge.dist.json")
+
+
+def test_a_fixed_object_resting_on_nothing_keeps_its_height(tmp_path):
+    """A raised fixed shelf in the problem (no :on) stays at its height in every instance,
+    written to the full form too, instead of sinking to z = 0."""
+    problem = os.path.join(ROOT, "problems", "contract", "user-mechanism", "shelf-pull.pddl")
+    path = tmp_path / "shelf.dist.json"
+    path.write_text(json.dumps({"format": 1, "problem": os.path.relpath(problem, tmp_path),
+                                "objects": {"box": {"shift": [0.02, 0.02]}}}))
+    task = load_task_file(str(path))
+    shelf = next(o for o in task.objects if o.name == "shelf")
+    assert shelf.on is None and shelf.z == pytest.approx(0.06)
+    assert "(shelf :asset \"brick/0\" :position (1 0 0.06)" in sample(task, "test", 3).problem_text()
+    assert task_document(task)["objects"]["shelf"]["z"] == pytest.approx(0.06)

@@ -216,7 +216,7 @@ def _place(spec: ObjectSpec, asset: str, scale: float, offsets: Sequence[float],
         yaw += frame.yaw
     info = asset_info(asset)
     if spec.on is None:
-        z = 0.0
+        z = spec.z   # on nothing: where the problem put it (a fixed shelf keeps its height)
     else:
         top = _support_top(placed[spec.on], spec.surface)
         z = top - info["aabb"]["min"][2] * scale + (0.0 if spec.fixed else GAP)

@@ -61,7 +61,8 @@ class ObjectSpec:
     assets: Assets
     xy: Tuple[float, float] = (0.0, 0.0)          # canonical position (in `frame` if given)
     yaw: float = 0.0                               # canonical yaw, degrees
-    on: Optional[str] = "table"                    # what it rests on (None: placed at z = 0)
+    on: Optional[str] = "table"                    # what it rests on (None: placed at height `z`)
+    z: float = 0.0                                 # the height of an object resting on nothing (a fixed shelf)
     frame: Optional[str] = None                    # xy/yaw relative to this object's sampled pose
     surface: Optional[float] = None                # the support's top in its own frame (default: its bbox top)
     fixed: bool = False

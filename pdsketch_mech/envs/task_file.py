@@ -35,7 +35,7 @@ MOVABLE_SHIFT = (0.05, 0.05)     # the paper's perturbation of movable objects: 
 MOVABLE_TURN = 15.0
 TOP_FIELDS = ("format", "problem", "name", "title", "description", "goal", "objects", "distractors", "overlaps_ok",
               "demo")
-OBJECT_FIELDS = ("assets", "xy", "yaw", "on", "frame", "surface", "fixed", "shift", "turn", "scale", "mass",
+OBJECT_FIELDS = ("assets", "xy", "z", "yaw", "on", "frame", "surface", "fixed", "shift", "turn", "scale", "mass",
                  "friction", "align", "yaw_by_category", "match", "slides", "role")
 
 
@@ -149,6 +149,7 @@ def _from_problem(path: str, error) -> Tuple[Dict[str, ObjectSpec], str]:
             raise error(f"problem: scene object '{obj.name}' stands on nothing (give it :on SUPPORT)", "problem")
         shift, turn = ((0.0, 0.0), 0.0) if obj.fixed else (MOVABLE_SHIFT, MOVABLE_TURN)
         specs[obj.name] = ObjectSpec(obj.name, Assets((obj.asset,), (obj.asset,)), xy=obj.position[:2],
+                                     z=float(obj.position[2]) if on is None else 0.0,
                                      yaw=round(math.degrees(yaw), 6), on=on, fixed=obj.fixed, noise_xy=shift, noise_yaw=turn,
                                      scale=(obj.scale[0], obj.scale[0]), mass=obj.mass, friction=obj.friction)
     for name, spec in list(specs.items()):
@@ -226,6 +227,7 @@ def _object(name: str, base: Optional[ObjectSpec], fields: Any, error) -> Object
     return ObjectSpec(
         name, assets,
         xy=tuple(float(v) for v in get("xy", _pair, b.xy)),
+        z=float(get("z", _number, b.z)),
         yaw=float(get("yaw", _number, b.yaw)),
         on=get("on", _name_or_null, b.on),
         frame=get("frame", _name_or_null, b.frame),
@@ -333,7 +335,8 @@ def task_document(task: TaskSpec) -> Dict[str, Any]:
         fields: Dict[str, Any] = {"assets": {"train": list(spec.assets.train), "test": list(spec.assets.test)},
                                   "xy": list(spec.xy), "yaw": spec.yaw, "on": spec.on, "fixed": spec.fixed,
                                   "shift": list(spec.noise_xy), "turn": spec.noise_yaw, "scale": list(spec.scale)}
-        optional = {"frame": spec.frame, "surface": spec.surface, "mass": spec.mass, "friction": spec.friction,
+        optional = {"z": spec.z or None, "frame": spec.frame, "surface": spec.surface, "mass": spec.mass,
+                    "friction": spec.friction,
                     "match": spec.match, "role": spec.role or None}
         fields.update({k: v for k, v in optional.items() if v is not None})
         if spec.align is not None:
