@@ -245,3 +245,18 @@ def write_plan_json(path: str, status: str, reason: str, time_s: float, seed: in
     """Write the `plan --json` document (planner/plan_document.py) atomically."""
     from ..planner.plan_document import plan_document   # here: a command's start-up needs none of it
     write_json(path, plan_document(status, reason, time_s, seed, plan, stats, problem))
+
+
+def folder_ok(path: Optional[str]) -> bool:
+    """Whether the folder `path` would be written into exists (None: nothing to write)."""
+    return path is None or os.path.isdir(os.path.dirname(os.path.abspath(path)))
+
+
+def existing_recording(base: str) -> Optional[str]:
+    """Why recording to `base` would replace a recording (without --force), or None."""
+    from ..world.recording import recording_paths
+
+    for path in recording_paths(base):
+        if os.path.exists(path):
+            return f"{shown_path(path)} exists (use --force to replace it)"
+    return None

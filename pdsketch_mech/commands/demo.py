@@ -34,23 +34,11 @@ import time
 from typing import Optional, Sequence
 
 from ..util.data import data_path
-from .common import ArgumentParser, EXIT_OK, EXIT_UNSOLVED, fail, output_folder, shown_path, whole
+from .common import (
+    ArgumentParser, EXIT_OK, EXIT_UNSOLVED, existing_recording, fail, folder_ok, output_folder, whole,
+)
 
 DEMOS_DIR = data_path("domains", "mechanisms", "demos")
-
-
-def _folder_ok(path: Optional[str]) -> bool:
-    return path is None or os.path.isdir(os.path.dirname(os.path.abspath(path)))
-
-
-def existing_recording(base: str) -> Optional[str]:
-    """Why recording to `base` would replace a recording (without --force), or None."""
-    from ..world.recording import recording_paths
-
-    for path in recording_paths(base):
-        if os.path.exists(path):
-            return f"{shown_path(path)} exists (use --force to replace it)"
-    return None
 
 
 def is_user_demo(name: str) -> bool:
@@ -73,7 +61,7 @@ def record(args) -> int:
     if args.name not in DEMOS:
         return fail(f"unknown demonstration '{args.name}'; demonstrations: {', '.join(DEMOS)}")
     for extra in (args.render, args.strip):
-        if not _folder_ok(extra):
+        if not folder_ok(extra):
             return fail(f"{extra}: its folder does not exist")
     out = os.path.abspath(args.out or DEMOS_DIR)
     problem = output_folder(out, "--out") if args.out is not None else None
@@ -159,7 +147,7 @@ def show(args) -> int:
         if not os.path.isfile(path):
             return fail(f"{path}: no such file")
     for extra in (args.render, args.strip):
-        if not _folder_ok(extra):
+        if not folder_ok(extra):
             return fail(f"{extra}: its folder does not exist")
     if not (args.render or args.strip):
         return fail("nothing to do: give --render FILE.gif and/or --strip FILE.png")

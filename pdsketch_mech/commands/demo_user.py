@@ -9,7 +9,7 @@ import time
 from typing import TYPE_CHECKING, Any, Dict, Optional
 
 from ..lang.errors import PddlError
-from .common import EXIT_OK, EXIT_UNSOLVED, fail, output_folder, print_error, shown_path
+from .common import EXIT_OK, EXIT_UNSOLVED, existing_recording, fail, folder_ok, output_folder, print_error, shown_path
 
 if TYPE_CHECKING:
     from ..envs.demos.demo_file import HandCommand
@@ -23,7 +23,6 @@ def record_user(args: argparse.Namespace) -> int:
     it beside the file (or in --out); the command's exit status."""
     from ..envs.demos.demo_file import DemoFileError, default_stem
     from ..envs.demos.user import load_problem, load_user_demo
-    from .demo import existing_recording
 
     refused = _refused_option(args)
     if refused is not None:
@@ -52,14 +51,13 @@ def record_user(args: argparse.Namespace) -> int:
 
 def _refused_option(args: argparse.Namespace) -> Optional[str]:
     """Why the options do not go with a demonstration of the user's own, or None."""
-    from .demo import _folder_ok
 
     if args.variant:
         return "--variant is for the built-in demonstrations"
     if args.split not in (None, "train"):
         return "--split is for the built-in demonstrations (a demonstration of your own has its own scene)"
     for extra in (args.render, args.strip):
-        if not _folder_ok(extra):
+        if not folder_ok(extra):
             return f"{extra}: its folder does not exist"
     return None
 

@@ -25,7 +25,6 @@ from ..operators.vocabulary import BASIS, Vocabulary, vocabulary_of
 from ..samplers.anchored import MechanismAnchors
 from ..symbolic.grounding import ground
 from ..symbolic.optimistic import optimistic_problem
-from ..symbolic.task import StripsTask
 from ..world.world import World
 from .bindings import StepSampler
 from .budget import DEFAULT_BUDGET, SearchBudget
