@@ -2,7 +2,6 @@
 problems in the same process. Each `plan` returns the document `plan --json` writes."""
 from __future__ import annotations
 
-import os
 import sys
 import time
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
@@ -35,6 +34,7 @@ class Planner:
         self.domain: LoadedDomain = load_domain(files, samplers_required=self.use_learned)
         self.warnings: List[PddlWarning] = list(self.domain.warnings)
         self._learned: Optional[Mapping[str, object]] = None
+        self._anchored: Optional[Mapping[str, object]] = None
 
     def load(self, problem: str) -> Tuple[LoadedDomain, Problem]:
         """Parse and check a problem file (a path or a shipped problem's name) against the domain."""
@@ -58,7 +58,7 @@ class Planner:
             return _plan_classical(loaded, parsed, timeout, seed, started)
         result, entries = plan_scene(loaded, parsed, started, started + timeout, seed,
                                      self.basis_only, self._learned_samplers(loaded),
-                                     anchors=mechanism_anchors(loaded, self.use_learned, not self.basis_only))
+                                     anchors=self._anchors(loaded))
         document = plan_document(result.status, result.reason or result.status, time.perf_counter() - started,
                                  seed, entries, result.stats, parsed.name)
         if result.status == "solved" and (validate or render):
@@ -74,6 +74,11 @@ class Planner:
         steps = load_plan(plan, loaded, parsed) if isinstance(plan, str) else check_plan(plan, loaded, parsed)
         replayed = replay_entries(loaded, parsed, steps, render)
         return {"goal_reached": replayed.goal_reached, "message": replayed.message}
+
+    def _anchors(self, loaded: LoadedDomain) -> Mapping[str, object]:
+        if self._anchored is None:   # read once, like the checkpoints
+            self._anchored = mechanism_anchors(loaded, self.use_learned, not self.basis_only)
+        return self._anchored
 
     def _learned_samplers(self, loaded: LoadedDomain) -> Mapping[str, object]:
         if self._learned is None:   # checkpoints are read once, for every problem after
@@ -97,16 +102,15 @@ def mechanism_anchors(loaded: LoadedDomain, use_learned: bool, use_mechanisms: b
     A malformed anchors file is a `PddlError` at its mechanism."""
     if not use_learned or not use_mechanisms:
         return {}
-    from ..samplers.anchored import anchors_path, read_anchors
+    from ..samplers.anchored import anchors_beside
     found = {}
     for mechanism in loaded.domain.mechanisms:
-        fragment = mechanism.loc.file if mechanism.loc is not None else ""
-        path = anchors_path(fragment, mechanism.name) if fragment else ""
-        if path and os.path.isfile(path):
-            try:
-                found[mechanism.name] = read_anchors(path, mechanism.name)
-            except (ValueError, OSError) as exc:
-                raise PddlError(f"mechanism {mechanism.name}: its anchors cannot be read: {exc}", mechanism.loc) from None
+        try:
+            anchors = anchors_beside(mechanism.loc.file if mechanism.loc is not None else "", mechanism.name)
+        except (ValueError, OSError) as exc:
+            raise PddlError(f"mechanism {mechanism.name}: its anchors cannot be read: {exc}", mechanism.loc) from None
+        if anchors is not None:
+            found[mechanism.name] = anchors
     return found
 
 

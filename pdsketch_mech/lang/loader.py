@@ -12,7 +12,7 @@ import json
 import os
 import re
 from dataclasses import dataclass, replace
-from typing import Dict, FrozenSet, List, Optional, Sequence, Tuple
+from typing import FrozenSet, List, Optional, Sequence, Tuple
 
 from ..util.data import data_path
 from .errors import PddlError, PddlWarning
@@ -235,13 +235,3 @@ def load_problem(problem_path: str, domains: Sequence[LoadedDomain] = (),
         domain = load_domain([found], samplers_required)
     check_problem(problem, domain.domain, domain.types)
     return domain, problem
-
-
-def load_domains_by_name(paths: Sequence[str]) -> Dict[str, LoadedDomain]:
-    """Each path loaded separately (with its bases), keyed by every name it answers to."""
-    out: Dict[str, LoadedDomain] = {}
-    for path in paths:
-        loaded = load_domain([path])
-        for name in loaded.names:
-            out.setdefault(name, loaded)
-    return out

@@ -17,7 +17,7 @@ from typing import Dict, List, Mapping, Optional, Tuple
 import numpy as np
 
 from ..lang.nodes import Action, Atom, Domain, Stream
-from ..samplers.anchored import SCHEMA, edge_distance
+from ..samplers.anchored import SCHEMA, edge_distance, reach_frame
 from ..samplers.geometry import body_mesh, matrix_pose, pose_matrix
 from ..symbolic.normalize import dnf
 from ..world.robot import Kinematics
@@ -76,8 +76,7 @@ def demonstration_anchors(extraction: Extraction, basis: Domain, world: World) -
                 if sampler == "grasp" and objects:
                     anchor = _grasp(world, kinematics, arrays, names, objects[0], step.frame, roles)
                 elif sampler == "contact" and len(objects) >= 2:
-                    pusher = step.objects[0] if len(objects) >= 3 else None
-                    anchor = _contact(world, kinematics, recording, names, pusher, objects[-2],
+                    anchor = _contact(world, kinematics, recording, names, _pusher(step), objects[-2],
                                       (segment.start, segment.end), roles)
                 elif sampler == "push-motion":
                     anchor = _push(world, kinematics, extraction, step, (segment.start, segment.end))
@@ -115,6 +114,17 @@ def _tcp(kinematics: Kinematics, arrays, frame: int) -> np.ndarray:
     return pose_matrix(kinematics.fk(np.asarray(arrays["joints"][frame], dtype=float)))
 
 
+def _pusher(step) -> Optional[int]:
+    """A push's pusher: the held tool (move-cont ?x ?y ?s), or None for the bare hand
+    (transit-cont ?y ?s)."""
+    return step.objects[0] if len(step.objects) >= 3 else None
+
+
+def _pusher_pose(kinematics: Kinematics, arrays, pusher: Optional[int], frame: int) -> np.ndarray:
+    """The pusher's pose at `frame`: the tool's, or the gripper frame's for the bare hand."""
+    return _tcp(kinematics, arrays, frame) if pusher is None else _pose(arrays, pusher, frame)
+
+
 def _box(world: World, name: str) -> List[List[float]]:
     lo, hi = body_mesh(world, name).bounds
     return [list(map(float, lo)), list(map(float, hi))]
@@ -140,17 +150,13 @@ def _contact(world, kinematics, recording, names, pusher: Optional[int], target:
     if touch is None:
         return None
     frame, point, normal = touch
-    pusher_pose = _tcp(kinematics, arrays, frame) if pusher is None else _pose(arrays, pusher, frame)
+    pusher_pose = _pusher_pose(kinematics, arrays, pusher, frame)
     target_pose = _pose(arrays, target, frame)
     moved = _pose(arrays, target, span[1])[:3, 3] - target_pose[:3, 3]
     moved[2] = 0.0
     direction = moved if np.linalg.norm(moved) > STILL else -np.array([normal[0], normal[1], 0.0])
     direction = direction / max(np.linalg.norm(direction), 1e-9)
-    reach = np.eye(4)
-    x = target_pose[:3, 3] - np.asarray(world.shoulder, dtype=float)
-    x[2] = 0.0
-    x /= max(np.linalg.norm(x), 1e-9)
-    reach[:3, 0], reach[:3, 1], reach[:3, 2], reach[:3, 3] = x, np.cross([0.0, 0.0, 1.0], x), (0, 0, 1), target_pose[:3, 3]
+    reach = reach_frame(world.shoulder, target_pose[:3, 3])
 
     def in_frame(f: np.ndarray) -> Dict[str, object]:
         inverse = np.linalg.inv(f)
@@ -184,13 +190,9 @@ def _push(world, kinematics, extraction: Extraction, step, span: Tuple[int, int]
     target left its support, how far past the support's edge (the target may lie farther from
     the edge in another scene)."""
     arrays = extraction.segmentation.recording.arrays
-    hand = len(step.objects) < 3   # transit-cont (?y ?s): the bare hand; move-cont (?x ?y ?s): a held tool
-    pusher = None if hand else step.objects[0]
-    target, support = step.objects[-2], step.objects[-1]
-
-    def at(frame: int) -> np.ndarray:
-        return _tcp(kinematics, arrays, frame)[:3, 3] if pusher is None else _pose(arrays, pusher, frame)[:3, 3]
-    travel = at(span[1]) - at(span[0])
+    pusher, (target, support) = _pusher(step), step.objects[-2:]
+    start, end = (_pusher_pose(kinematics, arrays, pusher, frame)[:3, 3] for frame in span)
+    travel = end - start
     travel[2] = 0.0
     distance = float(np.linalg.norm(travel))
     if not (math.isfinite(distance) and distance > 0.0):

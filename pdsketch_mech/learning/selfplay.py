@@ -48,7 +48,7 @@ from ..planner.refine import Refinement
 from ..planner.skeleton import Skeleton, skeleton_steps
 from ..symbolic.task import StripsTask
 from ..world.build import build_world
-from ..samplers.anchored import MechanismAnchors, anchors_path, read_anchors
+from ..samplers.anchored import MechanismAnchors, anchors_beside, anchors_path
 from ..samplers.learned.encoding import VALUE_WIDTH, mass_features
 from ..samplers.learned.checkpoint import mechanism_hash
 from ..samplers.learned.context import context_objects
@@ -93,9 +93,10 @@ def episode_seeds(base: int, episode: int) -> Tuple[int, int]:
     return int(instance), int(planner)
 
 
+@lru_cache(maxsize=4)
 def _anchors(fragment: str, mechanism: str) -> Dict[str, MechanismAnchors]:
-    path = anchors_path(fragment, mechanism)
-    return {mechanism: read_anchors(path, mechanism)} if os.path.isfile(path) else {}
+    anchors = anchors_beside(fragment, mechanism)   # read once per process, like the domain
+    return {mechanism: anchors} if anchors is not None else {}
 
 
 @lru_cache(maxsize=4)

@@ -53,11 +53,6 @@ def step_label(operator: str, args: Sequence[str]) -> str:
     return " ".join((operator, *objects_of(args)))
 
 
-def step_key(step: Step) -> StepKey:
-    """The step as the same step in any skeleton: its operator and objects."""
-    return step.name, objects_of(step.args)
-
-
 def skeleton_groundings(steps: Sequence[Step]) -> List[Tuple[Grounding, Promise]]:
     """A skeleton's mechanism groundings, each with what it promises (its last step's
     certified facts)."""

@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import itertools
 import json
-import math
 import os
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Iterator, Mapping, Optional, Tuple
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ..world.values import Grasp
 from .budget import SamplerBudget
@@ -74,14 +74,11 @@ def read_anchors(path: str, mechanism: str) -> MechanismAnchors:
     return MechanismAnchors(mechanism, variables)
 
 
-def load_anchors(mechanisms: Sequence[Tuple[str, str]]) -> Dict[str, MechanismAnchors]:
-    """Anchors of the (name, fragment file) mechanisms that have an anchors file beside them."""
-    found = {}
-    for name, fragment in mechanisms:
-        path = anchors_path(fragment, name)
-        if fragment and os.path.isfile(path):
-            found[name] = read_anchors(path, name)
-    return found
+def anchors_beside(fragment: str, mechanism: str) -> Optional[MechanismAnchors]:
+    """The anchors file beside `fragment` for `mechanism`, or None if it has none; ValueError
+    (one line) if it is malformed."""
+    path = anchors_path(fragment, mechanism) if fragment else ""
+    return read_anchors(path, mechanism) if path and os.path.isfile(path) else None
 
 
 class AnchoredSampler(Sampler):
@@ -110,9 +107,13 @@ class AnchoredSampler(Sampler):
 
 
 # -- transfer --------------------------------------------------------------------------
-def _box(anchor: Mapping[str, object]) -> Tuple[np.ndarray, np.ndarray]:
-    lo, hi = (np.asarray(v, dtype=float) for v in anchor["box"])
+def _centre_size(lo, hi) -> Tuple[np.ndarray, np.ndarray]:
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     return (lo + hi) / 2, np.maximum(hi - lo, 1e-4)
+
+
+def _box(anchor: Mapping[str, object]) -> Tuple[np.ndarray, np.ndarray]:
+    return _centre_size(*anchor["box"])
 
 
 def _scaled(point: np.ndarray, demo_box, now_box, budget: SamplerBudget) -> np.ndarray:
@@ -123,13 +124,12 @@ def _scaled(point: np.ndarray, demo_box, now_box, budget: SamplerBudget) -> np.n
 
 
 def _mesh_box(world: "World", name: str) -> Tuple[np.ndarray, np.ndarray]:
-    lo, hi = body_mesh(world, name).bounds
-    return (lo + hi) / 2, np.maximum(hi - lo, 1e-4)
+    return _centre_size(*body_mesh(world, name).bounds)
 
 
-def _turn_z(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+def _rotation(axis, angle: float) -> np.ndarray:
+    axis = np.asarray(axis, dtype=float)
+    return Rotation.from_rotvec(axis / max(np.linalg.norm(axis), 1e-12) * angle).as_matrix()
 
 
 def grasp_proposals(world: "World", obj: str, anchor: Mapping[str, object], rng: np.random.Generator,
@@ -140,28 +140,16 @@ def grasp_proposals(world: "World", obj: str, anchor: Mapping[str, object], rng:
     mesh = body_mesh(world, obj)
     frame = pose_matrix(tuple(tuple(v) for v in anchor["in_object"]))
     centre = _scaled(frame[:3, 3], _box(anchor), _mesh_box(world, obj), budget)
-    for k in itertools.count():
-        if k >= 4 * budget.anchor_proposals:
-            return
-        spread = pose_matrix(((0, 0, 0), (0, 0, 0, 1)))
-        if k:
-            angle = rng.normal(0.0, budget.anchor_turn)
-            axis = frame[:3, 2]   # turn about the approach axis
-            spread[:3, :3] = _rotation(axis, angle)
+    for k in range(4 * budget.anchor_proposals):
         candidate = np.eye(4)
-        candidate[:3, :3] = spread[:3, :3] @ frame[:3, :3]
+        # The first exactly as demonstrated; the rest turned about the approach axis and shifted.
+        turn = _rotation(frame[:3, 2], rng.normal(0.0, budget.anchor_turn)) if k else np.eye(3)
+        candidate[:3, :3] = turn @ frame[:3, :3]
         candidate[:3, 3] = centre + (rng.normal(0.0, budget.anchor_shift, 3) if k else 0.0)
         pinch = _pinch(mesh, candidate)
         if pinch is not None:
             yield Grasp(obj, matrix_pose(candidate), float(np.linalg.norm(pinch[1] - pinch[0])),
                         tuple(tuple(float(v) for v in q) for q in pinch))
-
-
-def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    axis = axis / max(np.linalg.norm(axis), 1e-12)
-    x, y, z = axis
-    k = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
-    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
 
 
 def _pinch(mesh, frame: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
@@ -178,10 +166,10 @@ def _pinch(mesh, frame: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     return hits[1], hits[0]
 
 
-def _reach_frame(world: "World", target: str) -> np.ndarray:
-    """Origin at the target, x horizontal from the robot's shoulder towards it, z up."""
-    centre = np.asarray(world.pose(target)[0], dtype=float)
-    x = centre - np.asarray(world.shoulder, dtype=float)
+def reach_frame(shoulder, centre) -> np.ndarray:
+    """Origin at `centre` (a target's), x horizontal from the robot's `shoulder` towards it, z up."""
+    centre = np.asarray(centre, dtype=float)
+    x = centre - np.asarray(shoulder, dtype=float)
     x[2] = 0.0
     x /= max(np.linalg.norm(x), 1e-9)
     frame = np.eye(4)
@@ -198,12 +186,13 @@ def contact_proposals(world: "World", target: str, anchor: Mapping[str, object],
     tcp = pose_matrix(world.held_tcp_in_object()) if tool is not None else np.eye(4)
     in_target = _transferred(anchor["in_target"], pose_matrix(world.pose(target)), _box(anchor),
                              _mesh_box(world, target), budget)
-    in_reach = _transferred(anchor["in_reach"], _reach_frame(world, target), None, None, budget)
+    in_reach = _transferred(anchor["in_reach"], reach_frame(world.shoulder, world.pose(target)[0]), None, None,
+                           budget)
     for k in range(budget.anchor_proposals):
         for pusher, point, direction, normal in (in_target, in_reach):
             if k:
                 turn = np.eye(4)
-                turn[:3, :3] = _turn_z(rng.normal(0.0, budget.anchor_turn))
+                turn[:3, :3] = _rotation((0.0, 0.0, 1.0), rng.normal(0.0, budget.anchor_turn))
                 shift = np.eye(4)
                 shift[:2, 3] = rng.normal(0.0, budget.anchor_shift, 2)
                 about = np.eye(4)
@@ -232,7 +221,8 @@ def _transferred(values: Mapping[str, object], frame: np.ndarray, demo_box, now_
     return frame @ pusher, frame[:3, :3] @ point + frame[:3, 3], direction, rotation @ np.asarray(values["normal"])
 
 
-def edge_distance(centre: np.ndarray, direction: np.ndarray, support: np.ndarray, bounds: np.ndarray) -> Optional[float]:
+def edge_distance(centre: np.ndarray, direction: np.ndarray, support: np.ndarray,
+                  bounds: np.ndarray) -> Optional[float]:
     """How far `centre` (world) goes along the horizontal `direction` before it leaves the
     top of a support whose pose is `support` (4x4) and whose box in its own frame is `bounds`
     ((lo, hi)); None if it is not above that box."""
@@ -262,8 +252,3 @@ def push_proposals(anchor: Mapping[str, object], rng: np.random.Generator, budge
     for k in itertools.count():
         distance = distances[k % len(distances)]
         yield float(np.clip(distance * (1.0 + rng.normal(0.0, budget.anchor_distance_spread)), 0.01, 0.6))
-
-
-def anchored_variables(anchors: MechanismAnchors) -> List[str]:
-    """The variables a mechanism's anchors cover (for messages)."""
-    return sorted(anchors.variables)

@@ -18,7 +18,7 @@ from ..world.motion import LINE_ANG_TOL, LINE_POS_TOL, cartesian_path, path_coll
 from ..world.robot import grasp_opening
 from ..world.values import Contact, Grasp, Placement, Pose, Trajectory, approach_axis
 from .budget import SamplerBudget
-from .interface import SampleRequest, Sampler
+from .interface import Sampler
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -81,15 +81,6 @@ def push_motion(world: "World", contact: Contact, rng: np.random.Generator,
     if distance is None:
         distance = float(rng.uniform(*PUSH_RANGE))
     return _motion(world, tcp, contact.direction, BACK_OFF, rng, "push", push_distance=distance, budget=budget)
-
-
-def free_motion(world: "World", rng: np.random.Generator, kind: str = "free",
-                max_attempts: Optional[int] = None, budget: SamplerBudget = SamplerBudget()) -> Optional[Trajectory]:
-    """To a random collision-free configuration with the gripper above the table, trying at
-    most `max_attempts` targets (default `budget.free_motion_proposals`)."""
-    sampler = FreeMotionSampler(kind, budget)
-    request = SampleRequest(f"plan-{kind}-motion", (), ())
-    return next(sampler.draw(world, request, rng, budget=max_attempts), None)
 
 
 class GraspMotionSampler(Sampler[Grasp]):

@@ -52,47 +52,37 @@ class CollisionChecker:
                     return True
         return False
 
-    def colliding_bodies(self, q: Sequence[float]) -> Collection[str]:
-        """Names of what the arm (or held object) penetrates at `q`, for messages and tests."""
-        world = self.world
-        self.collides(q)
-        names = {body.id: name for name, body in world.bodies.items()}
-        names[world.robot] = "robot"
-        names[world.mount] = "the robot's mount"
-        hit = set()
-        for body_id in [world.robot] + ([world.bodies[world.attachment.name].id] if world.attachment else []):
-            for contact in p.getContactPoints(bodyA=body_id, physicsClientId=world.client):
-                base = body_id == world.robot and contact[3] == -1
-                if contact[8] < -PENETRATION and not base and contact[2] not in self.ignore_ids:
-                    hit.add(names.get(contact[2], str(contact[2])))
-        hit.discard(world.attachment.name if world.attachment else None)
-        return hit
-
-
-    def hits(self, q: Sequence[float]) -> str:
-        """What the arm (or held object) penetrates at `q`, for messages: per body hit, which
-        part of ours goes deepest into it and how far (`the panda_hand 7 mm into 'tray'`)."""
+    def _penetrations(self, q: Sequence[float]) -> Iterator[Tuple[int, int, str, float]]:
+        """(our body id, its link, the name of what it penetrates, signed distance) at `q`: the
+        arm (not its base) or the held object inside anything but the ignored and each other."""
         world = self.world
         self.collides(q)
         names = {body.id: name for name, body in world.bodies.items()}
         names[world.robot] = "robot"
         names[world.mount] = "the robot's mount"
         held = world.bodies[world.attachment.name].id if world.attachment else None
-        deepest: Dict[str, Tuple[float, str]] = {}
         for body_id in [world.robot] + ([held] if held is not None else []):
             for contact in p.getContactPoints(bodyA=body_id, physicsClientId=world.client):
-                if contact[8] >= -PENETRATION or (body_id == world.robot and contact[3] == -1) \
-                        or contact[2] in self.ignore_ids or contact[2] == held:
-                    continue
-                if body_id == world.robot:
-                    part = "the " + p.getJointInfo(world.robot, contact[3], physicsClientId=world.client)[12].decode()
-                else:
-                    part = f"the held '{world.attachment.name}'"
-                other = names.get(contact[2], str(contact[2]))
-                if other not in deepest or contact[8] < deepest[other][0]:
-                    deepest[other] = (contact[8], part)
-        return ", ".join(f"{part} {-depth * 1000:.0f} mm into " + (f"'{other}'" if other != "robot" and not
-                                                                    other.startswith("the ") else other)
+                if contact[8] < -PENETRATION and not (body_id == world.robot and contact[3] == -1) \
+                        and contact[2] not in self.ignore_ids and contact[2] != held:
+                    yield body_id, contact[3], names.get(contact[2], str(contact[2])), contact[8]
+
+    def colliding_bodies(self, q: Sequence[float]) -> Collection[str]:
+        """Names of what the arm (or held object) penetrates at `q`, for messages and tests."""
+        return {other for _, _, other, _ in self._penetrations(q)}
+
+    def hits(self, q: Sequence[float]) -> str:
+        """What the arm (or held object) penetrates at `q`, for messages: per body hit, which
+        part of ours goes deepest into it and how far (`the panda_hand 7 mm into 'tray'`)."""
+        world = self.world
+        deepest: Dict[str, Tuple[float, str]] = {}
+        for body_id, link, other, depth in self._penetrations(q):
+            part = ("the " + p.getJointInfo(world.robot, link, physicsClientId=world.client)[12].decode()
+                    if body_id == world.robot else f"the held '{world.attachment.name}'")
+            if other not in deepest or depth < deepest[other][0]:
+                deepest[other] = (depth, part)
+        quoted = {other: other if other == "robot" or other.startswith("the ") else f"'{other}'" for other in deepest}
+        return ", ".join(f"{part} {-depth * 1000:.0f} mm into {quoted[other]}"
                          for other, (depth, part) in sorted(deepest.items())) or "nothing"
 
 
