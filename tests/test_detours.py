@@ -84,7 +84,7 @@ def test_each_operator_in_an_unexplained_detour_halves_the_estimate(hook_slope):
 def test_the_supply_defers_skeletons_that_repeat_a_dead_step_and_hands_them_out_last(hook_slope):
     task, _, _ = hook_slope
     supply, evidence = _supply(task)
-    dead = ("grasp", ("target", "table"))
+    dead = ("grasp", ("target", "table"), None)
     assert dead in supply.upcoming()[0].pristine     # the first skeleton grasps the box where it lies
     for _ in range(DEFAULT_BUDGET.dead_after):
         evidence.ran_dry(dead)

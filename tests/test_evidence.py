@@ -96,8 +96,8 @@ def test_a_step_dead_where_it_lies_that_works_in_another_context_lifts_skeletons
     evidence = _evidence()
     where_it_lies = _sk([Step("grasp", ("box", "table", "#g"), HELD)], 5)
     for _ in range(10):
-        evidence.ran_dry(("grasp", ("box", "table")))
-    assert evidence.is_dead("grasp", ("box", "table"))
+        evidence.ran_dry(("grasp", ("box", "table"), None))
+    assert evidence.is_dead("grasp", ("box", "table"), None)
     hooked = skeleton_of(hook_steps(Step("place", ("box", "slope", "#p"), 0)), 17)
     for index in range(3):
         _outcomes(evidence, hooked, index, True, 3)
@@ -118,11 +118,11 @@ def test_the_estimate_has_a_floor():
 
 def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasible():
     evidence = _evidence()
-    box, tool = ("grasp", ("box", "table")), ("grasp", ("tool", "table"))
+    box, tool = ("grasp", ("box", "table"), None), ("grasp", ("tool", "table"), None)
     assert not evidence.ran_dry(box) and not evidence.ran_dry(box) and evidence.ran_dry(box)
-    assert evidence.is_dead("grasp", ("box", "table", "#g7")) and evidence.deaths == 1
+    assert evidence.is_dead("grasp", ("box", "table", "#g7"), None) and evidence.deaths == 1
     evidence.found(tool)
-    assert not any(evidence.ran_dry(tool) for _ in range(10)) and not evidence.is_dead("grasp", ("tool", "table"))
+    assert not any(evidence.ran_dry(tool) for _ in range(10)) and not evidence.is_dead("grasp", ("tool", "table"), None)
     assert evidence.blocks([None, box]) and not evidence.blocks([tool, None])
     assert not evidence.ran_dry(None)
 
@@ -149,7 +149,7 @@ def test_a_dead_grasp_that_simulates_after_a_hook_is_recorded_as_unblocked(monke
     monkeypatch.setattr(refine, "contact_mask", lambda task, vocabulary=None: 0)
     evidence = _evidence()
     for _ in range(evidence.dead_after):
-        evidence.ran_dry(("grasp", ("box", "table")))
+        evidence.ran_dry(("grasp", ("box", "table"), None))
     steps = hook_steps(Step("place", ("box", "slope", "#p"), 0))
     search = Refinement(skeleton_of(steps), None, still_world(), None, OneValueSampler(), np.random.default_rng(0),
                         evidence=evidence)
@@ -177,7 +177,7 @@ def test_the_steps_that_got_past_a_dead_step_lift_every_mechanism_that_takes_it_
     same push shares the gain before its own grasp has worked."""
     evidence = _evidence()
     for _ in range(evidence.dead_after):
-        evidence.ran_dry(("grasp", ("tool", "table")))
+        evidence.ran_dry(("grasp", ("tool", "table"), None))
     push = Step("transit-cont", ("tool", "table", "#c"), 0)
     lever = skeleton_of([push, Step("grasp", ("tool", "table", "#g"), HELD, "lever", (), 0, ("tool", "box"))], 4)
     hook = skeleton_of([push, Step("grasp", ("tool", "table", "#g"), HELD, "hook-use", (), 0, ("tool", "box"))], 3)
@@ -205,7 +205,7 @@ def test_a_way_past_a_dead_step_keeps_its_gain_while_the_step_is_revisited():
     what a push that got past it showed; only the step proving feasible where the scene
     began does."""
     evidence = _evidence()
-    key = ("grasp", ("tool", "table"))
+    key = ("grasp", ("tool", "table"), None)
     for _ in range(evidence.dead_after):
         evidence.ran_dry(key)
     push = Step("transit-cont", ("tool", "table", "#c"), 0)
@@ -215,3 +215,22 @@ def test_a_way_past_a_dead_step_keeps_its_gain_while_the_step_is_revisited():
     assert evidence.estimate(lever) == pytest.approx(UNBLOCK_GAIN)
     evidence.found(key)                                                     # feasible where the scene began
     assert evidence.estimate(lever) == 1.0
+
+
+def test_a_step_dead_with_one_mechanisms_samplers_blocks_only_skeletons_that_draw_from_them():
+    """A gap-push's learned grasps of a spoon ran dry three times: slope-blocker's grasp of
+    the same spoon, drawn from its own learned samplers, is still tried (and the generic
+    grasp too); a mechanism without samplers of its own draws the generic grasp."""
+    task = SimpleNamespace(operators=[], facts=[], init=0, static_facts=[], successor=None)
+    evidence = Evidence(task, own_samplers={"gap-push", "slope-blocker"})
+    gap_push = ("grasp", ("spoon", "table"), "gap-push")
+    for _ in range(evidence.dead_after):
+        evidence.ran_dry(gap_push)
+    assert evidence.is_dead("grasp", ("spoon", "table", "#g"), "gap-push")
+    assert not evidence.is_dead("grasp", ("spoon", "table", "#g"), "slope-blocker")
+    assert evidence.blocks([gap_push]) and not evidence.blocks([("grasp", ("spoon", "table"), "slope-blocker")])
+    assert not evidence.blocks([("grasp", ("spoon", "table"), None)])
+    assert not evidence.is_dead("grasp", ("spoon", "table", "#g"), "lever")   # generic: not the dead one
+    assert evidence.was_dead("grasp", ("spoon", "table", "#g")) and "(grasp spoon table) in gap-push" in evidence.labels()
+    evidence.found(gap_push)
+    assert not evidence.was_dead("grasp", ("spoon", "table", "#g")) and not evidence.labels()

@@ -35,12 +35,12 @@ def test_a_step_is_pristine_until_an_earlier_step_touches_one_of_its_movable_obj
              _step("grasp", "box", "table", "#g2"), _step("move-cont", "tool", "box", "table"),
              _step("grasp", "box", "table", "#g3")]
     keys = pristine_keys(steps, fixed={"table", "slope"})
-    assert keys == [("grasp", ("tool", "table")), None, ("grasp", ("box", "table")), None, None]
+    assert keys == [("grasp", ("tool", "table"), None), None, ("grasp", ("box", "table"), None), None, None]
 
 
 def test_a_pristine_step_dies_after_repeated_dry_visits_unless_it_was_ever_feasible():
     memo = empty_evidence()
-    grasp, push = ("grasp", ("box", "table")), ("transit-cont", ("box", "table"))
+    grasp, push = ("grasp", ("box", "table"), None), ("transit-cont", ("box", "table"))
     for _ in range(DEAD_AFTER - 1):
         assert not memo.ran_dry(grasp)
     assert memo.ran_dry(grasp) and memo.blocks([None, grasp])
@@ -85,7 +85,7 @@ def test_once_the_box_is_found_dead_where_it_lies_the_hook_and_put_back_comes_ea
     memo = Evidence(task)
     skeletons = skeleton_order(task, evidence=memo)
     for _ in range(DEAD_AFTER):
-        memo.ran_dry(("grasp", ("target", "table")))
+        memo.ran_dry(("grasp", ("target", "table"), None))
     assert rank(skeletons, 1500) is not None
     assert rank(iter_skeletons(task), 1500) is None
 
@@ -96,7 +96,7 @@ def test_an_operator_is_blocked_only_where_its_dead_step_is_still_pristine(hook_
     memo = Evidence(task)
     masks = memo.masks
     for _ in range(DEAD_AFTER):
-        memo.ran_dry(("grasp", ("target", "table")))
+        memo.ran_dry(("grasp", ("target", "table"), None))
     ops = {op.label: i for i, op in enumerate(task.operators)}
     grasp = next(i for label, i in ops.items() if label.startswith("(grasp target table"))
     hook = ops["(hook-use tool target table)"]
@@ -160,7 +160,7 @@ def test_one_dry_visit_of_the_first_step_does_not_end_a_skeleton_until_the_step_
     for visit in range(1, DEAD_AFTER + 1):
         hopeless.run(deadline=float("inf"), max_work=1)
         assert hopeless.exhausted == (visit == DEAD_AFTER)
-    assert ("grasp", ("spoon", "table")) in memo.dead
+    assert ("grasp", ("spoon", "table"), None) in memo.dead
     # without a shared record (self-play) one dry visit still ends it
     alone = _refinement(_DryFirst(dry=1), None)
     alone.run(deadline=float("inf"), max_work=1)
@@ -185,7 +185,7 @@ def test_a_dead_step_met_again_with_its_objects_where_they_began_is_not_sampled(
     assert refinement.pristine[1] is None                # the place touched the box symbolically
     assert not refinement._dead_where_it_began(1)        # nothing is dead yet
     for _ in range(DEAD_AFTER):
-        memo.ran_dry(("grasp", ("box", "table")))
+        memo.ran_dry(("grasp", ("box", "table"), None))
     assert refinement._dead_where_it_began(1)
     moved.add("tool")                                    # the tool moved, the box did not
     assert refinement._dead_where_it_began(1)

@@ -103,7 +103,7 @@ class BilevelSearch:
         self.initial = world.snapshot()
         mismatch = initial_mismatch(self.task, world, vocabulary)
         self.stats.warn(warnings + ([mismatch] if mismatch else []))
-        self.evidence = Evidence(self.task, self.sampler.promise, self.start, budget)
+        self.evidence = Evidence(self.task, self.sampler.promise, self.start, budget, self.sampler.own_samplers())
         self.supply = SkeletonSupply(self.task, self.evidence, self.deadline, budget, vocabulary)
         self.probes = GroundingProbes(self.task, self.sampler, world, self.initial, seed)
         self.active: Dict[int, Refinement] = {}

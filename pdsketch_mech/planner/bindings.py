@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from collections import Counter, defaultdict
-from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Mapping, Optional, Tuple
+from typing import TYPE_CHECKING, Callable, Dict, FrozenSet, Iterator, List, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -62,6 +62,10 @@ class StepSampler:
         self._ranked: Dict[Tuple[str, str, str], Sampler] = {}
         self._anchored_samplers: Dict[Tuple[str, str, str], Sampler] = {}
         self.promise = GroundingPromise()   # what the learned samplers think of each grounding
+
+    def own_samplers(self) -> FrozenSet[str]:
+        """The mechanisms whose steps draw from samplers of their own (learned or anchored)."""
+        return frozenset(self.learned) | frozenset(self.anchors)
 
     def sampler_for(self, stream: str, step: StepContext, placeholder: str) -> Sampler:
         """The stream's generic sampler; for a mechanism's step, its demonstrated value first

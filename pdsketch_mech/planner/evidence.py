@@ -48,7 +48,7 @@ from __future__ import annotations
 import math
 import time
 from collections import Counter, defaultdict
-from typing import Dict, List, Optional, Sequence, Set, Tuple
+from typing import Collection, Dict, List, Optional, Sequence, Set, Tuple
 
 from ..symbolic.task import StripsTask
 from .budget import DEFAULT_BUDGET, SearchBudget
@@ -61,15 +61,18 @@ class Evidence:
     groundings' scores: one store (module docstring)."""
 
     def __init__(self, task: StripsTask, promise: Optional[GroundingPromise] = None,
-                 start: Optional[float] = None, budget: SearchBudget = DEFAULT_BUDGET):
+                 start: Optional[float] = None, budget: SearchBudget = DEFAULT_BUDGET,
+                 own_samplers: Collection[str] = ()):
         self.task, self.budget = task, budget
+        self.own_samplers = frozenset(own_samplers)   # mechanisms with samplers of their own (skeleton.py)
         self.dead_after, self.floor, self.gain = budget.dead_after, budget.floor, budget.unblock_gain
         self.promise = promise if promise is not None else GroundingPromise()
         self.start = time.perf_counter() if start is None else start
         self.masks, self.bits = touch_masks(task)   # per operator: the movable objects it handles
-        keys = [(op.name, objects_of(op.args)) for op in task.operators]
-        self._op_steps = [tuple((keys[b], self.masks[b]) for b in (op.steps or (i,)))
-                          for i, op in enumerate(task.operators)]
+        ops = task.operators   # a mechanism's steps that draw from its own samplers are keyed by it
+        self._op_steps = [tuple(((ops[b].name, objects_of(ops[b].args), op.name if op.name in self.own_samplers else None),
+                                 self.masks[b]) for b in (op.steps or (i,)))
+                          for i, op in enumerate(ops)]
         self.flagged = 0                            # bits of the objects some dead step is about
         self.dry: Counter = Counter()
         self.feasible: Set[StepKey] = set()
@@ -81,6 +84,7 @@ class Evidence:
         self.work = 0                               # the planner's work so far, in units
         self.verdicts: Counter = Counter()          # step -> times it was found dead
         self.first_dead: Dict[StepKey, float] = {}  # step ever found dead and not cleared -> when first
+        self._dead_steps: Counter = Counter()      # those as (operator, objects), whichever samplers
         self.revisit_at: Dict[StepKey, float] = {}  # dead step -> total work at which it is revisited
         self._totals: Dict[Question, List[int]] = defaultdict(lambda: [0, 0])            # [successes, failures]
         self._by_owner: Dict[Tuple[Question, int], List[int]] = defaultdict(lambda: [0, 0])
@@ -125,7 +129,9 @@ class Evidence:
         if self.dry[key] < self.dead_after:
             return False
         self.dead[key] = round(time.perf_counter() - self.start, 3)
-        self.first_dead.setdefault(key, self.dead[key])
+        if key not in self.first_dead:
+            self.first_dead[key] = self.dead[key]
+            self._dead_steps[key[:2]] += 1
         self.deaths += 1
         self.verdicts[key] += 1
         self.revisit_at[key] = max(self.work, self.dead_after) * self.budget.revisit ** self.verdicts[key]
@@ -152,7 +158,8 @@ class Evidence:
             self.feasible.add(key)
             self.dead.pop(key, None)
             self.revisit_at.pop(key, None)
-            self.first_dead.pop(key, None)
+            if self.first_dead.pop(key, None) is not None:
+                self._dead_steps[key[:2]] -= 1
             self.cleared += key in self.verdicts
 
     # -- what the search and refinement ask -------------------------------------------
@@ -171,9 +178,16 @@ class Evidence:
             handled |= mask
         return False
 
-    def is_dead(self, name: str, args: Sequence[str]) -> bool:
-        """Whether the step `name args`, met as the scene began, is dead."""
-        return (name, objects_of(args)) in self.dead
+    def is_dead(self, name: str, args: Sequence[str], mechanism: Optional[str]) -> bool:
+        """Whether the step `name args` of `mechanism` (None: a basis step), met as the scene
+        began, is dead with the samplers it draws from."""
+        sampler = mechanism if mechanism in self.own_samplers else None
+        return (name, objects_of(args), sampler) in self.dead
+
+    def was_dead(self, name: str, args: Sequence[str]) -> bool:
+        """Whether the step `name args`, met as the scene began, was found dead with any
+        samplers and never found feasible since."""
+        return self._dead_steps[(name, objects_of(args))] > 0
 
     def movable(self, args: Sequence[str]) -> List[str]:
         """The objects among `args` that steps may move (not fixed, not placeholders)."""
@@ -181,8 +195,10 @@ class Evidence:
 
     def labels(self) -> Dict[str, float]:
         """Steps found dead and never found feasible since (believed dead now, or being
-        revisited), as '(name objects...)', and when each was first found dead (s)."""
-        return {f"({name} {' '.join(objects)})": t for (name, objects), t in self.first_dead.items()}
+        revisited), as '(name objects...)' (and the mechanism whose samplers ran dry), and
+        when each was first found dead (s)."""
+        return {f"({name} {' '.join(objects)})" + (f" in {mechanism}" if mechanism else ""): t
+                for (name, objects, mechanism), t in self.first_dead.items()}
 
     # -- the estimate -----------------------------------------------------------------
     def counts(self, question: Question, owner: int = 0) -> Tuple[int, int]:
@@ -205,7 +221,7 @@ class Evidence:
         """What is known of a step, as a natural log (module docstring): `unblock_gain` where a
         step dead as the scene began has worked after the same steps, the chance that it is
         not dead where it has only failed from the same contact state, 1 otherwise."""
-        if context[0][:2] in self.first_dead and (context[0][:2], context[1]) in self._passed:
+        if self._dead_steps[context[0][:2]] > 0 and (context[0][:2], context[1]) in self._passed:
             return math.log(self.gain)   # its own success too: getting past it is not in its effort
         successes, failures = self.counts(question, owner)
         if successes or not failures:

@@ -222,7 +222,7 @@ class Refinement:
         """Step i simulated as expected: go deeper. True if that refines the skeleton."""
         step = self.steps[i]
         self._note(i, True)
-        if self.evidence is not None and self.evidence.is_dead(step.name, step.args):
+        if self.evidence is not None and self.evidence.was_dead(step.name, step.args):
             self.unblocked.add(i)  # done what the scene as it began did not allow
         # A value of a mechanism step is worth what it leads to: it succeeds once the
         # mechanism's next step simulates after it too (a grasp of a blocker that lets no
@@ -282,7 +282,7 @@ class Refinement:
         if evidence is None or not evidence.dead or self.pristine[i] is not None:
             return False
         objects = evidence.movable(step.args)
-        if not objects or not evidence.is_dead(step.name, step.args):
+        if not objects or not evidence.is_dead(step.name, step.args, step.mechanism):
             return False
         return not any(self.world.moved_since(self.start, a) for a in objects)
 

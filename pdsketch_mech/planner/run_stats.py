@@ -99,7 +99,8 @@ class RunStats:
         out["continuous_s"] = round(self.continuous_s, 3)
         out["failures"] = dict(self.failures.most_common(8))
         out["failed_steps"] = failed_steps(self.step_failures, sampler.verified,
-                                           [step_label(*key) for key in evidence.first_dead])
+                                           list(dict.fromkeys(step_label(name, objects)
+                                                              for name, objects, _ in evidence.first_dead)))
         out["mechanisms"] = mechanism_summary(self.step_failures, self.mechanism_skeletons, self.created)
         return out
 

@@ -8,14 +8,14 @@ imports none of them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Sequence, Set, Tuple
+from typing import Collection, Dict, List, Optional, Sequence, Set, Tuple
 
 from ..operators.vocabulary import BASIS, Vocabulary
 from ..samplers.interface import StepContext
 from ..symbolic.optimistic import is_placeholder
 from ..symbolic.task import Operator, StripsTask
 
-StepKey = Tuple[str, Tuple[str, ...]]                    # the step in any skeleton: operator, objects
+StepKey = Tuple[str, Tuple[str, ...], Optional[str]]     # the step in any skeleton: operator, objects, own samplers
 Grounding = Tuple[str, Tuple[str, ...]]                  # a mechanism and its object arguments
 Promise = Tuple[Tuple[int, int], ...]                     # what a mechanism's last step certifies
 Asked = Tuple[str, Tuple[str, ...], Optional[str]]      # a step as evidence pools it: + its mechanism
@@ -78,15 +78,19 @@ def touch_masks(task: StripsTask, vocabulary: Vocabulary = BASIS) -> Tuple[List[
     return masks, index
 
 
-def pristine_keys(steps: Sequence[Step], fixed: Set[str]) -> List[Optional[StepKey]]:
+def pristine_keys(steps: Sequence[Step], fixed: Set[str], own_samplers: Collection[str] = ()) -> List[Optional[StepKey]]:
     """For each step, its key if no earlier step touched any of its movable objects (it meets
-    them as the scene began, in whatever skeleton), else None."""
+    them as the scene began, in whatever skeleton), else None. The key names the mechanism
+    when the step draws from that mechanism's own samplers (`own_samplers`: learned or
+    anchored), else None: a sampler that ran dry speaks for itself (a mechanism's learned
+    grasps of a spoon, topped up when a proposer runs dry, are not the generic ones)."""
     touched: Set[str] = set()
     keys: List[Optional[StepKey]] = []
     for step in steps:
         objects = objects_of(step.args)
         movable = {o for o in objects if o not in fixed}
-        keys.append((step.name, objects) if not movable & touched else None)
+        sampler = step.mechanism if step.mechanism in own_samplers else None
+        keys.append((step.name, objects, sampler) if not movable & touched else None)
         touched |= movable
     return keys
 

@@ -171,7 +171,8 @@ class SkeletonSupply:
             plan, order = found
             self.found += 1
             steps = skeleton_steps(self.task, plan, self.vocabulary)
-            skeleton = Skeleton(order, plan, steps, pristine_keys(steps, self._fixed), step_contexts(steps),
+            skeleton = Skeleton(order, plan, steps, pristine_keys(steps, self._fixed, self.evidence.own_samplers),
+                                step_contexts(steps),
                                 self.found, step_questions(steps, self.task.init, self._observable))
             if not self.evidence.blocks(skeleton.pristine):
                 return skeleton
