@@ -148,6 +148,16 @@ def test_object_a_little_above_its_support_is_no_warning(write_files, capsys):
     assert run_check(capsys, BASIS, problem) == (0, [])
 
 
+def test_an_object_that_tips_over_as_the_scene_settles_is_a_located_warning(write_files, capsys):
+    """A calculator leaning at 60 degrees rests on the table by its edge, then tips over."""
+    text = SCENE.replace('(a :asset "block/0" :position {a} :on table)',
+                         '(a :asset "calculator/0" :position (0.5 -0.1 0.04) :rpy-deg (60 0 0) :on table)')
+    (problem,) = write_files(**{"p.pddl": text})
+    status, lines = run_check(capsys, BASIS, problem)
+    assert status == 0 and len(lines) == 1 and lines[0].startswith(f"{problem}:8:5: warning: scene object 'a': moves ")
+    assert lines[0].endswith("cm as the scene settles (it does not rest at its scene pose: it falls, tips over or slides)")
+
+
 def test_plan_warns_of_a_falling_object_at_its_entry_too(write_files, capsys):
     (problem,) = write_files(**{"p.pddl": SCENE.format(a="(0.5 0 0.145)")})
     plan.main([BASIS, problem, "--timeout", "60"])

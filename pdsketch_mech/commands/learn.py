@@ -108,7 +108,8 @@ def _selfplay_options() -> ArgumentParser:
     play.add_argument("--time-limit", type=seconds, default=300.0, metavar="S",
                       help="seconds per episode, a safety net (default 300)")
     play.add_argument("--fragment", metavar="FILE", help="the mechanism's fragment (default domains/mechanisms/NAME.pddl)")
-    play.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's)")
+    play.add_argument("--task", help="the task distribution (default: NAME's, or its demonstration's); a problem "
+                                     "file (.pddl) stands for its default distribution")
     play.add_argument("--grounding", choices=("goal", "any"), default="goal",
                       help="which groundings an episode draws from: goal (default): those whose certified facts "
                            "achieve part of the instance's goal, as the planner grounds it; any: every one whose "
@@ -254,7 +255,8 @@ def _prepare_selfplay(args):
     task = args.task or task_of(fragment, args.name)
     if task is None:
         return fail(f"{args.name}: no task distribution of that name or of its demonstration; give --task "
-                    f"({', '.join(task_names())}, or a distribution file NAME.dist.json)")
+                    f"({', '.join(task_names())}, a distribution file NAME.dist.json, or the problem file "
+                    "the demonstration was performed in: its default distribution)")
     try:
         resolve_task(task)
     except KeyError as exc:
@@ -262,7 +264,7 @@ def _prepare_selfplay(args):
     except TaskFileError as exc:
         print(exc, file=sys.stderr)
         return 2
-    if task not in task_names() and is_task_file(task):
+    if task not in task_names() and (is_task_file(task) or task.endswith(".pddl")):
         task = os.path.abspath(task)   # episodes resolve it in their own processes, wherever they run
     split = getattr(args, "split", "train")  # `train` always plays the train split
     out = args.out or os.path.join("out", "selfplay" if split == "train" else f"selfplay-{split}", args.name)

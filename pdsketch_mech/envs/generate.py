@@ -10,7 +10,7 @@ scripted demonstrations are checked on).
 
 Resting heights come from the assets' bounding boxes in `assets/manifest.json` (an object's
 frame is at its centre of mass, so it rests at `top - scale * aabb.min.z`), a millimetre
-above the support. Overlaps are checked on oriented footprints with their height ranges;
+above the support; a tilted object's box is its collision vertices' after the tilt. Overlaps are checked on oriented footprints with their height ranges;
 a sample with an overlap is redrawn. Nothing here imports PyBullet.
 """
 from __future__ import annotations
@@ -21,7 +21,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ..world.asset_index import asset_info
+from ..world.asset_index import asset_info, collision_vertices
 from .spec import ObjectSpec, TaskSpec
 
 GAP = 0.001          # metres between an object's lowest point and its support's top
@@ -46,10 +46,12 @@ class Placed:
     friction: Optional[float] = None
     slides: bool = False
     role: str = ""
+    tilt: Tuple[float, float] = (0.0, 0.0)   # roll, pitch (degrees), before the yaw
 
     def bbox(self) -> Tuple[np.ndarray, np.ndarray]:
-        info = asset_info(self.asset)
-        return np.array(info["aabb"]["min"]) * self.scale, np.array(info["aabb"]["max"]) * self.scale
+        """Its bounding box in its yaw frame (tilted with it), scaled."""
+        lo, hi = tilted_box(self.asset, self.tilt)
+        return lo * self.scale, hi * self.scale
 
     def footprint(self) -> np.ndarray:
         """The bounding box's four corners on the table, world frame (4 x 2)."""
@@ -129,7 +131,9 @@ def _num(value: float, digits: int = 4) -> str:
 
 def _scene_entry(o: Placed) -> str:
     parts = [f'({o.name} :asset "{o.asset}"', ":position (" + " ".join(_num(v) for v in o.position) + ")"]
-    if _num(o.yaw, 2) != "0":
+    if any(_num(a, 2) != "0" for a in o.tilt):
+        parts.append(f":rpy-deg ({_num(o.tilt[0], 2)} {_num(o.tilt[1], 2)} {_num(o.yaw, 2)})")
+    elif _num(o.yaw, 2) != "0":
         parts.append(f":rpy-deg (0 0 {_num(o.yaw, 2)})")
     if o.fixed:
         parts.append(":fixed")
@@ -142,6 +146,21 @@ def _scene_entry(o: Placed) -> str:
     if o.friction is not None:
         parts.append(f":friction {_num(o.friction, 3)}")
     return " ".join(parts) + ")"
+
+
+def tilted_box(asset: str, tilt: Tuple[float, float]) -> Tuple[np.ndarray, np.ndarray]:
+    """The asset's bounding box (unscaled) after turning it by `tilt` (roll about x, then
+    pitch about y, degrees): from the manifest upright, from its collision vertices tilted,
+    so that a box on its end rests on its end."""
+    if not any(tilt):
+        info = asset_info(asset)
+        return np.array(info["aabb"]["min"]), np.array(info["aabb"]["max"])
+    roll, pitch = (math.radians(a) for a in tilt)
+    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
+    turn = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]]) @ np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr],
+                                                                                   [0.0, sr, cr]])
+    points = np.array(collision_vertices(asset)) @ turn.T
+    return points.min(axis=0), points.max(axis=0)
 
 
 def _rotate(xy: np.ndarray, yaw_deg: float) -> np.ndarray:
@@ -199,9 +218,8 @@ def _place(spec: ObjectSpec, asset: str, scale: float, offsets: Sequence[float],
     dx, dy, dyaw, dalign = offsets
     yaw = spec.canonical_yaw(asset) + dyaw
     xy = np.array(spec.xy, dtype=float) + (dx, dy)
+    lo, hi = (v * scale for v in tilted_box(asset, spec.tilt))
     if spec.align is not None:
-        info = asset_info(asset)
-        lo, hi = np.array(info["aabb"]["min"]) * scale, np.array(info["aabb"]["max"]) * scale
         corners = _corners(lo, hi, yaw)
         axis = "xy".index(spec.align.side[1])
         extent = corners[:, axis].max() - corners[:, axis].min()
@@ -214,15 +232,14 @@ def _place(spec: ObjectSpec, asset: str, scale: float, offsets: Sequence[float],
         frame = placed[spec.frame]
         xy = _rotate(xy[None, :], frame.yaw)[0] + np.array(frame.position[:2])
         yaw += frame.yaw
-    info = asset_info(asset)
     if spec.on is None:
         z = spec.z   # on nothing: where the problem put it (a fixed shelf keeps its height)
     else:
         top = _support_top(placed[spec.on], spec.surface)
-        z = top - info["aabb"]["min"][2] * scale + (0.0 if spec.fixed else GAP)
+        z = top - lo[2] + (0.0 if spec.fixed else GAP)
     yaw = (yaw + 180.0) % 360.0 - 180.0
     return Placed(spec.name, asset, (float(xy[0]), float(xy[1]), float(z)), float(yaw), float(scale), spec.fixed,
-                  spec.on, spec.mass, spec.friction, spec.slides, spec.role)
+                  spec.on, spec.mass, spec.friction, spec.slides, spec.role, spec.tilt)
 
 
 def _choose(spec: ObjectSpec, split: str, rng: Optional[np.random.Generator], vary: bool,

@@ -9,7 +9,9 @@ turns a spec, a split and a seed into an ordinary problem file.
 Conventions: positions in metres and yaws in degrees, in the world unless the object names
 a `frame` (another object whose sampled pose they are relative to: the plate of the Lever
 task moves with its ledge, the Poking target with its tunnel). Objects rest on their `on`
-support: the resting height comes from the asset's bounding box in `assets/manifest.json`.
+support: the resting height comes from the asset's bounding box in `assets/manifest.json`,
+or, for a tilted object (a box on its end), from its collision vertices turned by the tilt.
+A turn is always about the vertical: a tilted object keeps its tilt and spins about z.
 """
 from __future__ import annotations
 
@@ -61,6 +63,7 @@ class ObjectSpec:
     assets: Assets
     xy: Tuple[float, float] = (0.0, 0.0)          # canonical position (in `frame` if given)
     yaw: float = 0.0                               # canonical yaw, degrees
+    tilt: Tuple[float, float] = (0.0, 0.0)         # roll and pitch, degrees: about its own x, then y, before the yaw
     on: Optional[str] = "table"                    # what it rests on (None: placed at height `z`)
     z: float = 0.0                                 # the height of an object resting on nothing (a fixed shelf)
     frame: Optional[str] = None                    # xy/yaw relative to this object's sampled pose

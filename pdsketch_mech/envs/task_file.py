@@ -35,7 +35,7 @@ MOVABLE_SHIFT = (0.05, 0.05)     # the paper's perturbation of movable objects: 
 MOVABLE_TURN = 15.0
 TOP_FIELDS = ("format", "problem", "name", "title", "description", "goal", "objects", "distractors", "overlaps_ok",
               "demo")
-OBJECT_FIELDS = ("assets", "xy", "z", "yaw", "on", "frame", "surface", "fixed", "shift", "turn", "scale", "mass",
+OBJECT_FIELDS = ("assets", "xy", "z", "yaw", "tilt", "on", "frame", "surface", "fixed", "shift", "turn", "scale", "mass",
                  "friction", "align", "yaw_by_category", "match", "slides", "role")
 
 
@@ -61,6 +61,15 @@ def load_task_file(path: str) -> TaskSpec:
     except json.JSONDecodeError as exc:
         raise TaskFileError(f"{path}:{exc.lineno}:{exc.colno}: error: not JSON: {exc.msg}") from None
     return task_from_document(document, path, text)
+
+
+def task_from_problem(path: str) -> TaskSpec:
+    """The default distribution of a problem file, as if a distribution file named only it:
+    its scene's movable objects shifted and turned as the paper perturbs them, fixed ones
+    kept, every asset its own (docs/distributions.md)."""
+    stem = os.path.basename(path)
+    return task_from_document({"format": FORMAT, "problem": stem,
+                               "description": f"the scene of {stem}, its movable objects shifted and turned"}, path)
 
 
 def _where(path: str, text: str, key: Optional[str]) -> str:
@@ -141,16 +150,15 @@ def _from_problem(path: str, error) -> Tuple[Dict[str, ObjectSpec], str]:
     specs: Dict[str, ObjectSpec] = {}
     for obj in scene:
         roll, pitch, yaw = _euler(obj.orientation)
-        if abs(roll) > 1e-3 or abs(pitch) > 1e-3:
-            raise error(f"problem: scene object '{obj.name}' is tilted; a distribution turns objects about z only",
-                        "problem")
+        tilt = (0.0, 0.0) if abs(roll) < 1e-3 and abs(pitch) < 1e-3 else \
+            (round(math.degrees(roll), 6), round(math.degrees(pitch), 6))
         on = obj.support or supports.get(obj.name)
         if on is None and abs(obj.position[2]) > 1e-3 and not obj.fixed:
             raise error(f"problem: scene object '{obj.name}' stands on nothing (give it :on SUPPORT)", "problem")
         shift, turn = ((0.0, 0.0), 0.0) if obj.fixed else (MOVABLE_SHIFT, MOVABLE_TURN)
         specs[obj.name] = ObjectSpec(obj.name, Assets((obj.asset,), (obj.asset,)), xy=obj.position[:2],
                                      z=float(obj.position[2]) if on is None else 0.0,
-                                     yaw=round(math.degrees(yaw), 6), on=on, fixed=obj.fixed, noise_xy=shift, noise_yaw=turn,
+                                     yaw=round(math.degrees(yaw), 6), tilt=tilt, on=on, fixed=obj.fixed, noise_xy=shift, noise_yaw=turn,
                                      scale=(obj.scale[0], obj.scale[0]), mass=obj.mass, friction=obj.friction)
     for name, spec in list(specs.items()):
         if spec.on is not None and specs.get(spec.on) is not None and specs[spec.on].on is not None:
@@ -229,6 +237,7 @@ def _object(name: str, base: Optional[ObjectSpec], fields: Any, error) -> Object
         xy=tuple(float(v) for v in get("xy", _pair, b.xy)),
         z=float(get("z", _number, b.z)),
         yaw=float(get("yaw", _number, b.yaw)),
+        tilt=tuple(float(v) for v in get("tilt", _tilt, b.tilt)),
         on=get("on", _name_or_null, b.on),
         frame=get("frame", _name_or_null, b.frame),
         surface=get("surface", _number_or_null, b.surface),
@@ -308,6 +317,11 @@ def _pair(value: Any) -> Optional[str]:
     return None
 
 
+def _tilt(value: Any) -> Optional[str]:
+    return _pair(value) or (None if all(-180 <= v <= 180 for v in value)
+                            else "expected [ROLL, PITCH] in degrees, each within -180..180")
+
+
 def _scale_range(value: Any) -> Optional[str]:
     return _pair(value) or (None if 0 < value[0] <= value[1] else "expected [LOW, HIGH] with 0 < LOW <= HIGH")
 
@@ -335,7 +349,7 @@ def task_document(task: TaskSpec) -> Dict[str, Any]:
         fields: Dict[str, Any] = {"assets": {"train": list(spec.assets.train), "test": list(spec.assets.test)},
                                   "xy": list(spec.xy), "yaw": spec.yaw, "on": spec.on, "fixed": spec.fixed,
                                   "shift": list(spec.noise_xy), "turn": spec.noise_yaw, "scale": list(spec.scale)}
-        optional = {"z": spec.z or None, "frame": spec.frame, "surface": spec.surface, "mass": spec.mass,
+        optional = {"z": spec.z or None, "tilt": list(spec.tilt) if any(spec.tilt) else None, "frame": spec.frame, "surface": spec.surface, "mass": spec.mass,
                     "friction": spec.friction,
                     "match": spec.match, "role": spec.role or None}
         fields.update({k: v for k, v in optional.items() if v is not None})
@@ -359,4 +373,5 @@ def task_document(task: TaskSpec) -> Dict[str, Any]:
     return document
 
 
-__all__: List[str] = ["TaskFileError", "is_task_file", "load_task_file", "task_document", "task_from_document"]
+__all__: List[str] = ["TaskFileError", "is_task_file", "load_task_file", "task_document", "task_from_document",
+                      "task_from_problem"]

@@ -1,5 +1,6 @@
 """Task names: the paper's eight tasks (`tasks.py`) and the distribution files shipped in
-`domains/tasks/` resolve by name; any other name is a distribution file's path."""
+`domains/tasks/` resolve by name; any other name is a distribution file's path, or a problem
+file's (`.pddl`: its default distribution)."""
 from __future__ import annotations
 
 import os
@@ -9,16 +10,19 @@ from typing import Dict, List
 from ..lang.errors import did_you_mean
 from ..util.data import data_path
 from .spec import TaskSpec
-from .task_file import SUFFIX, is_task_file, load_task_file
+from .task_file import SUFFIX, is_task_file, load_task_file, task_from_problem
 
 
 def resolve_task(name: str) -> TaskSpec:
-    """A built-in task by name, or the distribution file `name`; KeyError naming the choices,
-    TaskFileError for a file that cannot be used."""
+    """A built-in task by name, the distribution file `name`, or the default distribution of
+    the problem file `name` (`.pddl`); KeyError naming the choices, TaskFileError for a file
+    that cannot be used."""
     from .tasks import TASKS
 
     if name in TASKS:
         return TASKS[name]
+    if name.endswith(".pddl"):   # a problem file stands for its default distribution
+        return task_from_problem(name)
     if is_task_file(name) or os.path.exists(name):
         return load_task_file(name)
     shipped = shipped_task_files()

@@ -8,7 +8,7 @@ is re-executed in a fresh world exactly as `replay` will execute it.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Dict, List, Mapping, Optional, Sequence
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from ..lang.nodes import Problem
 from ..operators import basis
@@ -54,18 +54,20 @@ def goal_holds(task: StripsTask, state: int) -> bool:
     return any(op.artificial and task.applicable(state, op) for op in task.operators)
 
 
-def settle_start(world: World) -> List[str]:
-    """Let the scene settle as every plan's execution starts; a warning per object that
-    moved more than SETTLE_WARNING (floating, or resting on a slope it slides down)."""
+def settle_moves(world: World) -> List[Tuple[str, float]]:
+    """Let the scene settle as every plan's execution starts; each object that moved more
+    than SETTLE_WARNING (floating, tipping over, sliding down a slope), with how far (m)."""
     before = {name: world.pose(name)[0] for name in world.movable()}
     world.settle()
-    warnings = []
-    for name, position in before.items():
-        moved = sum((a - b) ** 2 for a, b in zip(world.pose(name)[0], position)) ** 0.5
-        if moved > SETTLE_WARNING:
-            warnings.append(f"object '{name}' moved {moved * 100:.1f} cm when the scene settled at the start "
-                            "(it was not resting at its scene pose)")
-    return warnings
+    moved = [(name, sum((a - b) ** 2 for a, b in zip(world.pose(name)[0], position)) ** 0.5)
+             for name, position in before.items()]
+    return [(name, distance) for name, distance in moved if distance > SETTLE_WARNING]
+
+
+def settle_start(world: World) -> List[str]:
+    """`settle_moves`, as the planner's warnings."""
+    return [f"object '{name}' moved {distance * 100:.1f} cm when the scene settled at the start "
+            "(it was not resting at its scene pose)" for name, distance in settle_moves(world)]
 
 
 @dataclass

@@ -63,6 +63,19 @@ def asset_info(name: str, root: Optional[str] = None) -> Dict[str, Any]:
     return dict(variants[variant], category=category, variant=variant, fixed=categories[category]["fixed"])
 
 
+@lru_cache(maxsize=256)
+def collision_vertices(name: str, root: Optional[str] = None) -> Tuple[Tuple[float, float, float], ...]:
+    """Every vertex of an asset's convex collision parts (`collision_<i>.obj` beside its
+    model), in its link frame, unscaled: where it touches what it rests on, at any tilt."""
+    info = asset_info(name, root)
+    folder = os.path.dirname(os.path.join(os.path.abspath(root or assets_root()), info["path"]))
+    vertices: List[Tuple[float, float, float]] = []
+    for i in range(int(info.get("parts", 1))):
+        with open(os.path.join(folder, f"collision_{i}.obj"), encoding="utf-8") as f:
+            vertices += [tuple(float(v) for v in line.split()[1:4]) for line in f if line.startswith("v ")]
+    return tuple(vertices)
+
+
 def asset_names(root: Optional[str] = None) -> List[str]:
     """Every asset of the manifest, as `category/variant`."""
     categories = load_manifest(root)["categories"]
