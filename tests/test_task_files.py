@@ -66,6 +66,28 @@ def test_an_object_on_a_movable_support_moves_with_it(tmp_path):
         assert placed.position[0] - tray.position[0] == pytest.approx(0.02 * _cos(tray.yaw), abs=1e-3)
 
 
+def test_an_object_on_a_plate_rests_on_its_inner_surface_not_its_rim(tmp_path):
+    """A movable support's top is not its bounding box's: the instance leaves the height to
+    the scene loader, which rests the cup inside the plate, where it stays as the scene settles."""
+    from pdsketch_mech.lang.parser import parse_text
+    from pdsketch_mech.planner.execute import settle_moves
+    from pdsketch_mech.world.build import build_world
+
+    (tmp_path / "tray.pddl").write_text("""(define (problem tray) (:domain mech-basis)
+      (:objects table tray cup - item)
+      (:init (handempty) (fixed table) (support tray table) (support cup tray))
+      (:goal (holding cup))
+      (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+              (tray :asset "plate/0" :position (0.5 0.1) :on table)
+              (cup :asset "small-block/0" :position (0.52 0.1) :on tray)))""")
+    instance = sample(resolve_task(str(tmp_path / "tray.pddl")), "dev", 1)
+    text = instance.problem_text()
+    assert ":position (0.557 0.0745) :rpy-deg (0 0 10.14) :on tray)" in text        # no height: it rests
+    with build_world(parse_text(text, "tray.pddl")) as world:
+        rim = instance.object("cup").position[2]                                   # on the box's top
+        assert world.pose("cup")[0][2] < rim - 0.005 and settle_moves(world) == []
+
+
 def _cos(degrees: float) -> float:
     import math
     return math.cos(math.radians(degrees))

@@ -10,7 +10,9 @@ scripted demonstrations are checked on).
 
 Resting heights come from the assets' bounding boxes in `assets/manifest.json` (an object's
 frame is at its centre of mass, so it rests at `top - scale * aabb.min.z`), a millimetre
-above the support; a tilted object's box is its collision vertices' after the tilt. Overlaps are checked on oriented footprints with their height ranges;
+above the support; a tilted object's box is its collision vertices' after the tilt. An
+object on a movable support (a plate, a tray) is written without a height: the scene loader
+rests it on what is under it, the plate's inner surface rather than its rim. Overlaps are checked on oriented footprints with their height ranges;
 a sample with an overlap is redrawn. Nothing here imports PyBullet.
 """
 from __future__ import annotations
@@ -47,6 +49,7 @@ class Placed:
     slides: bool = False
     role: str = ""
     tilt: Tuple[float, float] = (0.0, 0.0)   # roll, pitch (degrees), before the yaw
+    rests: bool = False              # its height is left to the scene loader, which rests it on its support
 
     def bbox(self) -> Tuple[np.ndarray, np.ndarray]:
         """Its bounding box in its yaw frame (tilted with it), scaled."""
@@ -130,7 +133,8 @@ def _num(value: float, digits: int = 4) -> str:
 
 
 def _scene_entry(o: Placed) -> str:
-    parts = [f'({o.name} :asset "{o.asset}"', ":position (" + " ".join(_num(v) for v in o.position) + ")"]
+    position = o.position[:2] if o.rests else o.position
+    parts = [f'({o.name} :asset "{o.asset}"', ":position (" + " ".join(_num(v) for v in position) + ")"]
     if any(_num(a, 2) != "0" for a in o.tilt):
         parts.append(f":rpy-deg ({_num(o.tilt[0], 2)} {_num(o.tilt[1], 2)} {_num(o.yaw, 2)})")
     elif _num(o.yaw, 2) != "0":
@@ -238,8 +242,11 @@ def _place(spec: ObjectSpec, asset: str, scale: float, offsets: Sequence[float],
         top = _support_top(placed[spec.on], spec.surface)
         z = top - lo[2] + (0.0 if spec.fixed else GAP)
     yaw = (yaw + 180.0) % 360.0 - 180.0
+    # On a movable support (a plate, a tray, a bowl) its top is not its box's: the scene
+    # loader rests the object on what is under it (the plate's inner surface, not its rim).
+    rests = spec.on is not None and spec.surface is None and not placed[spec.on].fixed
     return Placed(spec.name, asset, (float(xy[0]), float(xy[1]), float(z)), float(yaw), float(scale), spec.fixed,
-                  spec.on, spec.mass, spec.friction, spec.slides, spec.role, spec.tilt)
+                  spec.on, spec.mass, spec.friction, spec.slides, spec.role, spec.tilt, rests)
 
 
 def _choose(spec: ObjectSpec, split: str, rng: Optional[np.random.Generator], vary: bool,
