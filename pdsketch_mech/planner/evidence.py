@@ -21,9 +21,10 @@ every visit that found no value. What the store holds, and the factor each gives
   began, and every skeleton that begins with them shares it.
 - **dead steps**: a step whose objects nothing earlier touched (a *pristine* step) meets them
   as the scene began, whatever the skeleton; after `dead_after` dry visits with no feasible
-  value ever, it is believed dead there. The skeleton search defers paths that repeat it
-  (supply.py), and refinement does not sample it again while its objects lie where they
-  began. A belief, not a verdict: samplers are random, and a thin object's grasps may all
+  value ever, it is believed dead there (with the samplers that ran dry: a mechanism's own
+  learned or anchored ones apart from the generic ones). The skeleton search defers paths
+  that repeat it (supply.py), and refinement does not sample it again while its objects lie
+  where they began. A belief, not a verdict: samplers are random, and a thin object's grasps may all
   miss three visits in a row. Found dead for the k-th time when the planner's total work is
   W, it is believed alive again once the total reaches W * revisit**k (`advance`): one
   skeleton that waits on it comes back to try it, `dead_after` more dry visits set it
