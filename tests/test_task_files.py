@@ -264,3 +264,14 @@ def test_a_tilted_object_keeps_its_tilt_turns_about_the_vertical_and_rests_on_it
         problem = parse_text(text, "edge-on.pddl")
         with build_world(problem) as world:
             assert settle_start(world) == []                                        # does not fall or sink
+
+
+def test_the_canonical_instance_keeps_a_problems_scale(tmp_path):
+    """`envs --canonical` regenerates the problem's own scene: a `:scale 0.8` object stays 0.8."""
+    text = open(os.path.join(EXAMPLES, "push-to-edge.pddl")).read()
+    scaled = text.replace(':asset "calculator/0"', ':asset "calculator/0" :scale 0.8')
+    assert scaled != text
+    (tmp_path / "small.pddl").write_text(scaled)
+    task = resolve_task(str(tmp_path / "small.pddl"))
+    assert ":scale 0.8" in sample(task).problem_text()
+    assert ":scale" not in sample(TASKS["edge"]).problem_text().split("(:scene")[1]   # built-ins: 1

@@ -4,7 +4,7 @@
 so the same (task, split, seed) always gives the same instance and the same bytes
 (`problem_text`). The train and dev splits seed it with `seed`, the test split with (seed,
 TEST_STREAM): dev and test share their assets but no instance. Without a seed it gives the canonical instance: the first train
-asset of every object at its canonical pose, unscaled, without distractors. With
+asset of every object at its canonical pose and scale (1 where its range allows), without distractors. With
 `vary_assets=False` it keeps the canonical assets and perturbs only the poses (what the
 scripted demonstrations are checked on).
 
@@ -262,6 +262,12 @@ def _choose(spec: ObjectSpec, split: str, rng: Optional[np.random.Generator], va
     return choices[index], index
 
 
+def canonical_scale(spec: ObjectSpec) -> float:
+    """The scale of the canonical instance: 1 where the range allows it, else the nearest
+    end (a problem's `:scale 0.8` object is 0.8 in its own scene regenerated)."""
+    return min(max(1.0, spec.scale[0]), spec.scale[1])
+
+
 def instance_entropy(split: str, seed: int) -> Union[int, Tuple[int, int]]:
     """What seeds the generator of instance `seed` of `split` (module docstring)."""
     return (seed, TEST_STREAM) if split == "test" else seed
@@ -276,10 +282,10 @@ def sample(task: TaskSpec, split: str = "train", seed: Optional[int] = None, var
         for spec in task.objects:
             asset, chosen[spec.name] = _choose(spec, split, rng, vary_assets, chosen)
             if rng is None:
-                scale, offsets = 1.0, (0.0, 0.0, 0.0, 0.0)
+                scale, offsets = canonical_scale(spec), (0.0, 0.0, 0.0, 0.0)
             else:
                 drawn = float(rng.uniform(*spec.scale))  # drawn either way: the same seed, the same poses
-                scale = drawn if vary_assets else 1.0
+                scale = drawn if vary_assets else canonical_scale(spec)
                 nx, ny = spec.noise_xy
                 align_noise = spec.align.noise if spec.align is not None else 0.0
                 offsets = (rng.uniform(-nx, nx), rng.uniform(-ny, ny), rng.uniform(-spec.noise_yaw, spec.noise_yaw),
