@@ -64,8 +64,10 @@ class StepSampler:
         self.promise = GroundingPromise()   # what the learned samplers think of each grounding
 
     def own_samplers(self) -> FrozenSet[str]:
-        """The mechanisms whose steps draw from samplers of their own (learned or anchored)."""
-        return frozenset(self.learned) | frozenset(self.anchors)
+        """The mechanisms whose steps propose values of their own (a demonstration's, anchored).
+        Learned samplers only reorder the generic proposals: what runs dry for one runs dry
+        for them, so they share the generic samplers' beliefs."""
+        return frozenset(self.anchors)
 
     def sampler_for(self, stream: str, step: StepContext, placeholder: str) -> Sampler:
         """The stream's generic sampler; for a mechanism's step, its demonstrated value first

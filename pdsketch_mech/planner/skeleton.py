@@ -81,9 +81,9 @@ def touch_masks(task: StripsTask, vocabulary: Vocabulary = BASIS) -> Tuple[List[
 def pristine_keys(steps: Sequence[Step], fixed: Set[str], own_samplers: Collection[str] = ()) -> List[Optional[StepKey]]:
     """For each step, its key if no earlier step touched any of its movable objects (it meets
     them as the scene began, in whatever skeleton), else None. The key names the mechanism
-    when the step draws from that mechanism's own samplers (`own_samplers`: learned or
-    anchored), else None: a sampler that ran dry speaks for itself (a mechanism's learned
-    grasps of a spoon, topped up when a proposer runs dry, are not the generic ones)."""
+    when the step proposes values of its own (`own_samplers`: a demonstration's, anchored),
+    else None: a sampler that ran dry speaks for itself (the generic grasps of a box out of
+    reach say nothing of the grasp a demonstration showed on it)."""
     touched: Set[str] = set()
     keys: List[Optional[StepKey]] = []
     for step in steps:
