@@ -218,19 +218,19 @@ def test_a_way_past_a_dead_step_keeps_its_gain_while_the_step_is_revisited():
 
 
 def test_a_step_dead_with_one_mechanisms_samplers_blocks_only_skeletons_that_draw_from_them():
-    """A gap-push's learned grasps of a spoon ran dry three times: slope-blocker's grasp of
-    the same spoon, drawn from its own learned samplers, is still tried (and the generic
-    grasp too); a mechanism without samplers of its own draws the generic grasp."""
+    """A shelf pull's anchored grasps of a spoon ran dry three times: another anchored
+    mechanism's grasp of the same spoon is still tried (and the generic grasp too); a
+    mechanism without proposals of its own (learned ones only reorder) draws the generic grasp."""
     task = SimpleNamespace(operators=[], facts=[], init=0, static_facts=[], successor=None)
-    evidence = Evidence(task, own_samplers={"gap-push", "slope-blocker"})
-    gap_push = ("grasp", ("spoon", "table"), "gap-push")
+    evidence = Evidence(task, own_samplers={"shelf-pull", "slope-blocker"})
+    anchored = ("grasp", ("spoon", "table"), "shelf-pull")
     for _ in range(evidence.dead_after):
-        evidence.ran_dry(gap_push)
-    assert evidence.is_dead("grasp", ("spoon", "table", "#g"), "gap-push")
+        evidence.ran_dry(anchored)
+    assert evidence.is_dead("grasp", ("spoon", "table", "#g"), "shelf-pull")
     assert not evidence.is_dead("grasp", ("spoon", "table", "#g"), "slope-blocker")
-    assert evidence.blocks([gap_push]) and not evidence.blocks([("grasp", ("spoon", "table"), "slope-blocker")])
+    assert evidence.blocks([anchored]) and not evidence.blocks([("grasp", ("spoon", "table"), "slope-blocker")])
     assert not evidence.blocks([("grasp", ("spoon", "table"), None)])
     assert not evidence.is_dead("grasp", ("spoon", "table", "#g"), "lever")   # generic: not the dead one
-    assert evidence.was_dead("grasp", ("spoon", "table", "#g")) and "(grasp spoon table) in gap-push" in evidence.labels()
-    evidence.found(gap_push)
+    assert evidence.was_dead("grasp", ("spoon", "table", "#g")) and "(grasp spoon table) in shelf-pull" in evidence.labels()
+    evidence.found(anchored)
     assert not evidence.was_dead("grasp", ("spoon", "table", "#g")) and not evidence.labels()

@@ -22,7 +22,7 @@ every visit that found no value. What the store holds, and the factor each gives
 - **dead steps**: a step whose objects nothing earlier touched (a *pristine* step) meets them
   as the scene began, whatever the skeleton; after `dead_after` dry visits with no feasible
   value ever, it is believed dead there (with the samplers that ran dry: a mechanism's own
-  learned or anchored ones apart from the generic ones). The skeleton search defers paths
+  anchored proposals apart from the generic ones). The skeleton search defers paths
   that repeat it (supply.py), and refinement does not sample it again while its objects lie
   where they began. A belief, not a verdict: samplers are random, and a thin object's grasps may all
   miss three visits in a row. Found dead for the k-th time when the planner's total work is
@@ -65,12 +65,12 @@ class Evidence:
                  start: Optional[float] = None, budget: SearchBudget = DEFAULT_BUDGET,
                  own_samplers: Collection[str] = ()):
         self.task, self.budget = task, budget
-        self.own_samplers = frozenset(own_samplers)   # mechanisms with samplers of their own (skeleton.py)
+        self.own_samplers = frozenset(own_samplers)   # mechanisms proposing values of their own (skeleton.py)
         self.dead_after, self.floor, self.gain = budget.dead_after, budget.floor, budget.unblock_gain
         self.promise = promise if promise is not None else GroundingPromise()
         self.start = time.perf_counter() if start is None else start
         self.masks, self.bits = touch_masks(task)   # per operator: the movable objects it handles
-        ops = task.operators   # a mechanism's steps that draw from its own samplers are keyed by it
+        ops = task.operators   # a mechanism's steps with proposals of their own are keyed by it
         self._op_steps = [tuple(((ops[b].name, objects_of(ops[b].args), op.name if op.name in self.own_samplers else None),
                                  self.masks[b]) for b in (op.steps or (i,)))
                           for i, op in enumerate(ops)]
