@@ -21,6 +21,14 @@ from conftest import ROOT
 
 EXAMPLES = os.path.join(ROOT, "docs", "examples")
 EXAMPLE = os.path.join(EXAMPLES, "push-to-edge.dist.json")
+# A cup on a plate on the table.
+TRAY = """(define (problem tray) (:domain mech-basis)
+      (:objects table tray cup - item)
+      (:init (handempty) (fixed table) (support tray table) (support cup tray))
+      (:goal (holding cup))
+      (:scene (table :asset "table" :position (0.6 0 0) :fixed)
+              (tray :asset "plate/0" :position (0.5 0.1) :on table)
+              (cup :asset "small-block/0" :position (0.52 0.1) :on tray)))"""
 
 
 @pytest.mark.parametrize("name", list(TASKS))
@@ -48,13 +56,7 @@ def test_a_distribution_derives_its_objects_from_the_problem_scene():
 
 
 def test_an_object_on_a_movable_support_moves_with_it(tmp_path):
-    (tmp_path / "tray.pddl").write_text("""(define (problem tray) (:domain mech-basis)
-      (:objects table tray cup - item)
-      (:init (handempty) (fixed table) (support tray table) (support cup tray))
-      (:goal (holding cup))
-      (:scene (table :asset "table" :position (0.6 0 0) :fixed)
-              (tray :asset "plate/0" :position (0.5 0.1) :on table)
-              (cup :asset "small-block/0" :position (0.52 0.1) :on tray)))""")
+    (tmp_path / "tray.pddl").write_text(TRAY)
     (tmp_path / "tray.dist.json").write_text(json.dumps({"format": 1, "problem": "tray.pddl",
                                                          "objects": {"cup": {"shift": [0, 0], "turn": 0}}}))
     task = load_task_file(str(tmp_path / "tray.dist.json"))
@@ -73,13 +75,7 @@ def test_an_object_on_a_plate_rests_on_its_inner_surface_not_its_rim(tmp_path):
     from pdsketch_mech.planner.execute import settle_moves
     from pdsketch_mech.world.build import build_world
 
-    (tmp_path / "tray.pddl").write_text("""(define (problem tray) (:domain mech-basis)
-      (:objects table tray cup - item)
-      (:init (handempty) (fixed table) (support tray table) (support cup tray))
-      (:goal (holding cup))
-      (:scene (table :asset "table" :position (0.6 0 0) :fixed)
-              (tray :asset "plate/0" :position (0.5 0.1) :on table)
-              (cup :asset "small-block/0" :position (0.52 0.1) :on tray)))""")
+    (tmp_path / "tray.pddl").write_text(TRAY)
     instance = sample(resolve_task(str(tmp_path / "tray.pddl")), "dev", 1)
     text = instance.problem_text()
     assert ":position (0.557 0.0745) :rpy-deg (0 0 10.14) :on tray)" in text        # no height: it rests

@@ -94,10 +94,11 @@ def check_scene(loaded: LoadedDomain, problem: Problem, path: str) -> List[PddlW
         entries = {e.name: e for e in problem.scene}
         # Settled as the planner does before it compares: a tilted object that tips over says
         # so (one already said to fall is not warned of twice).
-        warned = {w.message.split("'")[1] for w in warnings if w.message.startswith("scene object '")}
+        warned = {w.loc for w in warnings}
         warnings += [PddlWarning(f"scene object '{name}': moves {distance * 100:.1f} cm as the scene settles "
                                  "(it does not rest at its scene pose: it falls, tips over or slides)",
-                                 entries[name].loc) for name, distance in settle_moves(world) if name not in warned]
+                                 entries[name].loc) for name, distance in settle_moves(world)
+                     if entries[name].loc not in warned]
         mismatch = initial_mismatch(task, world)
     return warnings + ([PddlWarning(mismatch, file=path)] if mismatch else [])
 

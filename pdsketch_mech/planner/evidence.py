@@ -54,7 +54,8 @@ from typing import Collection, Dict, List, Optional, Sequence, Set, Tuple
 from ..symbolic.task import StripsTask
 from .budget import DEFAULT_BUDGET, SearchBudget
 from .promise import GroundingPromise
-from .skeleton import Asked, Context, Question, Skeleton, StepKey, detour_steps, objects_of, touch_masks
+from .skeleton import (Asked, Context, Question, Skeleton, StepKey, belief_owner, detour_steps, objects_of,
+                       touch_masks)
 
 
 class Evidence:
@@ -71,8 +72,9 @@ class Evidence:
         self.start = time.perf_counter() if start is None else start
         self.masks, self.bits = touch_masks(task)   # per operator: the movable objects it handles
         ops = task.operators   # a mechanism's steps with proposals of their own are keyed by it
-        self._op_steps = [tuple(((ops[b].name, objects_of(ops[b].args), op.name if op.name in self.own_samplers else None),
-                                 self.masks[b]) for b in (op.steps or (i,)))
+        owners = [belief_owner(op.name if op.steps else None, self.own_samplers) for op in ops]
+        self._op_steps = [tuple(((ops[b].name, objects_of(ops[b].args), owners[i]), self.masks[b])
+                                for b in (op.steps or (i,)))
                           for i, op in enumerate(ops)]
         self.flagged = 0                            # bits of the objects some dead step is about
         self.dry: Counter = Counter()
@@ -182,8 +184,7 @@ class Evidence:
     def is_dead(self, name: str, args: Sequence[str], mechanism: Optional[str]) -> bool:
         """Whether the step `name args` of `mechanism` (None: a basis step), met as the scene
         began, is dead with the samplers it draws from."""
-        sampler = mechanism if mechanism in self.own_samplers else None
-        return (name, objects_of(args), sampler) in self.dead
+        return (name, objects_of(args), belief_owner(mechanism, self.own_samplers)) in self.dead
 
     def was_dead(self, name: str, args: Sequence[str]) -> bool:
         """Whether the step `name args`, met as the scene began, was found dead with any

@@ -78,6 +78,13 @@ def touch_masks(task: StripsTask, vocabulary: Vocabulary = BASIS) -> Tuple[List[
     return masks, index
 
 
+def belief_owner(mechanism: Optional[str], own_samplers: Collection[str]) -> Optional[str]:
+    """Whose dead-step belief a step of `mechanism` (None: a basis step) shares: its
+    mechanism's where that proposes values of its own (`own_samplers`), else the generic
+    samplers' (None)."""
+    return mechanism if mechanism in own_samplers else None
+
+
 def pristine_keys(steps: Sequence[Step], fixed: Set[str], own_samplers: Collection[str] = ()) -> List[Optional[StepKey]]:
     """For each step, its key if no earlier step touched any of its movable objects (it meets
     them as the scene began, in whatever skeleton), else None. The key names the mechanism
@@ -89,8 +96,7 @@ def pristine_keys(steps: Sequence[Step], fixed: Set[str], own_samplers: Collecti
     for step in steps:
         objects = objects_of(step.args)
         movable = {o for o in objects if o not in fixed}
-        sampler = step.mechanism if step.mechanism in own_samplers else None
-        keys.append((step.name, objects, sampler) if not movable & touched else None)
+        keys.append((step.name, objects, belief_owner(step.mechanism, own_samplers)) if not movable & touched else None)
         touched |= movable
     return keys
 
