@@ -1,7 +1,7 @@
 """Demonstration anchors: `learn extract` keeps what the demonstration did (the grasp on the
 tool, the contact with the target, how far it pulled) beside the fragment, and a mechanism's
-samplers propose it, transferred to the scene, before the generic ones
-(learning/anchors.py, samplers/anchored.py)."""
+samplers propose it, transferred to the scene, once per situation, then mixed with the
+generic ones (learning/anchors.py, samplers/anchored.py)."""
 from __future__ import annotations
 
 import json
@@ -72,12 +72,55 @@ def test_the_first_anchored_proposals_are_the_demonstrated_values_in_the_demonst
     anchors = read_anchors(str(path), "shelf-pull").variables
     rng, budget = np.random.default_rng(0), SamplerBudget()
     with build_world(parse_file(SHELF_FAR), visual=False) as world:   # the demonstration's own scene
-        grasp = next(grasp_proposals(world, "hook", anchors["?g"], rng, budget))
+        grasp = grasp_proposals(world, "hook", anchors["?g"], rng, budget).exact[0]
         assert np.allclose(grasp.in_object[0], anchors["?g"]["in_object"][0], atol=1e-3)
         assert 0.0 < grasp.width < 0.08   # the fingers close on the stick
-        contact = next(contact_proposals(world, "box", anchors["?c"], rng, budget))
+        contact = contact_proposals(world, "box", "shelf", anchors["?c"], rng, budget).exact[0]
         expected = pose_matrix(world.pose("box")) @ pose_matrix(tuple(map(tuple, anchors["?c"]["in_target"]["pusher"])))
         assert np.allclose(contact.pushers[0], expected, atol=1e-3)
+
+
+class _Generic:
+    """A generic sampler stand-in whose proposals say where they came from."""
+
+    budget = 10
+
+    def propose(self, world, request, rng, budget):
+        return (f"generic-{k}" for k in range(budget))
+
+
+class _Scene:
+    """Just what an anchored push reads of a world: where its objects lie, what is held."""
+
+    attachment = None
+
+    def __init__(self, box_x: float):
+        self.bodies = {"box": None}
+        self._box = ((box_x, 0.0, 0.02), (0.0, 0.0, 0.0, 1.0))
+
+    def pose(self, name):
+        return self._box
+
+
+def test_the_demonstrated_value_is_proposed_once_per_situation_then_mixed_with_the_generic_ones():
+    from pdsketch_mech.samplers.anchored import AnchoredSampler
+    from pdsketch_mech.samplers.interface import SampleRequest
+
+    sampler = AnchoredSampler(_Generic(), {"kind": "push", "distance": 0.125})
+    request = SampleRequest("push", ("box", ("a contact",)), ("?o", "?c"))
+    rng = np.random.default_rng(0)
+    first = list(sampler.propose(_Scene(0.5), request, rng, 10))
+    again = list(sampler.propose(_Scene(0.5), request, rng, 10))
+    elsewhere = list(sampler.propose(_Scene(0.6), request, rng, 10))
+    assert first[0] == 0.125 and elsewhere[0] == 0.125   # as demonstrated, in each new situation
+    assert 0.125 not in again                            # the same situation: not again
+    for proposals in (first[1:], again):
+        generic = [v for v in proposals if isinstance(v, str)]
+        spread = [v for v in proposals if not isinstance(v, str)]
+        # both sources, neither shut out: the generic sampler's completeness is kept
+        assert len(generic) >= 4 and 2 <= len(spread) <= 6 and all(0.01 <= v <= 0.6 for v in spread)
+    assert sum(isinstance(v, str) for v in again[:6]) >= 2   # mixed in early, not after the spread ones
+    assert {f"generic-{k}" for k in range(10)} <= set(again)
 
 
 def test_a_malformed_anchors_file_is_one_located_line(extracted, tmp_path):

@@ -119,9 +119,12 @@ class SamplerBudget:
     learned_extrapolation_z: float = 10.0
 
     # --- demonstration anchors (anchored.py) -------------------------------------------------
-    # Proposals transferred from a mechanism's demonstration a visit tries before the generic
-    # ones (the first exactly as demonstrated; a contact: this many in each of its two frames).
+    # Proposals spread around a mechanism's demonstrated values a visit mixes in with the
+    # generic ones at most (a contact: this many in each of its two frames).
     anchor_proposals: int = 6
+    # Chance: after the demonstrated values (proposed once per situation), that a proposal is
+    # spread around them rather than drawn from the generic sampler.
+    anchor_share: float = 0.5
     # Factor: the most a demonstrated offset is stretched (or shrunk, by its inverse) to
     # another object's bounding box, per axis.
     anchor_max_scale: float = 2.0

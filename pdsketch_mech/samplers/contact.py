@@ -233,6 +233,83 @@ class ContactSampler(Sampler[ContactCandidate]):
         return None
 
 
+@dataclass
+class ContactScene:
+    """What contacts with `target` (resting on `support`) are made from, read once per batch:
+    the support's normal and level, the target's top, which of its faces count as sides, and
+    the held tool's side points (none for the bare gripper)."""
+
+    world: "World"
+    target: str
+    n_s: np.ndarray
+    level: float
+    top: float
+    side_cos: float
+    gap: float
+    budget: SamplerBudget
+    tool: Optional[str] = None
+    tool_points: Optional[np.ndarray] = None
+    tool_normals: Optional[np.ndarray] = None
+    tool_vertices: Optional[np.ndarray] = None
+    tcp_in_tool: Optional[np.ndarray] = None
+
+    @staticmethod
+    def read(world: "World", target: str, support: str, gap: float, budget: SamplerBudget,
+             tool_points: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> "ContactScene":
+        """The scene as it is now; `tool_points` (points, normals in the tool's frame) are
+        needed when the hand holds a tool."""
+        n_s, support_point = support_frame(world, target, support)
+        level = float(np.dot(support_point, n_s))
+        target_mesh = body_mesh(world, target)
+        target_pose = pose_matrix(world.pose(target))
+        top = float(np.max((target_mesh.vertices @ target_pose[:3, :3].T + target_pose[:3, 3]) @ n_s)) - level
+        tilt = np.abs(target_mesh.face_normals @ (target_pose[:3, :3].T @ n_s))
+        scene = ContactScene(world, target, n_s, level, top, SIDE_COS if np.any(tilt < SIDE_COS) else FLARED_COS,
+                             gap, budget)
+        if world.attachment is not None:
+            scene.tool = world.attachment.name
+            scene.tool_points, scene.tool_normals = tool_points
+            scene.tool_vertices = np.asarray(body_mesh(world, scene.tool).vertices)
+            scene.tcp_in_tool = pose_matrix(world.held_tcp_in_object())
+        return scene
+
+    def direction(self, n2: np.ndarray) -> Optional[np.ndarray]:
+        """The push direction at a target point of outward normal `n2` (world): -n2 along the
+        support; None where `n2` is not a side (never push a target into its support)."""
+        if abs(float(np.dot(n2, self.n_s))) >= self.side_cos:
+            return None
+        d = -(n2 - np.dot(n2, self.n_s) * self.n_s)
+        return d / np.linalg.norm(d)
+
+    def candidate(self, p2: np.ndarray, n2: np.ndarray, d: np.ndarray,
+                  rng: np.random.Generator) -> Optional[ContactCandidate]:
+        """A contact at target point `p2` (world, normal `n2`, push direction `d`): the bare
+        gripper's frames, or a random side point of the held tool put in front of it (None if
+        none fits)."""
+        if self.tool is None:
+            frames = _gripper_frames(p2, d, self.n_s, self.level, self.top, self.gap, rng)
+            return ContactCandidate(frames, frames, -d * BACK, p2, d, n2) if frames else None
+        # A tool point on a side of the tool as it is held (its up is kept).
+        up = pose_matrix(self.world.pose(self.tool))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
+        usable = np.flatnonzero(np.abs(self.tool_normals @ up) < UP_COS)
+        if not len(usable):
+            return None
+        i = int(rng.choice(usable))
+        poses = _tool_poses(self.world, self.tool, self.tool_vertices, self.tool_points[i], self.tool_normals[i], p2,
+                            n2, self.n_s, self.level, self.gap, self.tcp_in_tool, rng, self.budget)
+        return ContactCandidate(poses, tuple(pose @ self.tcp_in_tool for pose in poses), n2 * BACK, p2, d, n2) \
+            if poses else None
+
+
+def held_tool_points(world: "World", rng: np.random.Generator,
+                     budget: SamplerBudget) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """`budget.contact_tool_points` surface points of the held tool with their normals (its
+    frame), None when the hand is empty."""
+    if world.attachment is None:
+        return None
+    return surface_points(body_mesh(world, world.attachment.name), budget.contact_tool_points, rng)
+
+
 def propose_contacts(world: "World", target: str, support: str, rng: np.random.Generator, max_points: int,
                      gap: float = 0.01, budget: SamplerBudget = SamplerBudget()) -> Iterator[ContactCandidate]:
     """Contacts of the held object (or the bare gripper) with the side of `target`, which
@@ -240,53 +317,29 @@ def propose_contacts(world: "World", target: str, support: str, rng: np.random.G
     points (one tool point each when a tool is held), `budget.contact_batch` at a time.
     A target the hand cannot reach from above is pulled more often than pushed further away
     (`budget.contact_pull_bias`): only a pull can bring it within reach."""
-    tool = world.attachment.name if world.attachment is not None else None
     target_mesh = body_mesh(world, target)
-    if tool is not None:
-        tool_mesh = body_mesh(world, tool)
-        tool_points, tool_normals = surface_points(tool_mesh, budget.contact_tool_points, rng)
-        tool_vertices = np.asarray(tool_mesh.vertices)
-        tcp_in_tool = pose_matrix(world.held_tcp_in_object())
+    tool_points = held_tool_points(world, rng, budget)
     toward = _toward_robot(world, target)
     bias = budget.contact_pull_bias
     examined = 0
     while examined < max_points:
         # Re-read the scene per batch: the caller may move things between yields.
-        n_s, support_point = support_frame(world, target, support)
-        level = float(np.dot(support_point, n_s))
+        scene = ContactScene.read(world, target, support, gap, budget, tool_points)
         target_pose = pose_matrix(world.pose(target))
-        world_vertices = target_mesh.vertices @ target_pose[:3, :3].T + target_pose[:3, 3]
-        top = float(np.max(world_vertices @ n_s)) - level
-        tilt = np.abs(target_mesh.face_normals @ (target_pose[:3, :3].T @ n_s))
-        side_cos = SIDE_COS if np.any(tilt < SIDE_COS) else FLARED_COS
-        if tool is not None:
-            up = pose_matrix(world.pose(tool))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
         count = min(budget.contact_batch, max_points - examined)
         examined += count
         local_points, local_normals = surface_points(target_mesh, count, rng)
         points = local_points @ target_pose[:3, :3].T + target_pose[:3, 3]
         normals = local_normals @ target_pose[:3, :3].T
         for p2, n2 in zip(points, normals):
-            if abs(float(np.dot(n2, n_s))) >= side_cos:
+            d = scene.direction(n2)
+            if d is None:
                 continue
-            d = -(n2 - np.dot(n2, n_s) * n_s)
-            d /= np.linalg.norm(d)
             if toward is not None and rng.random() * (1 + bias) > 1 + bias * max(0.0, float(d @ toward)):
                 continue
-            if tool is None:
-                frames = _gripper_frames(p2, d, n_s, level, top, gap, rng)
-                if frames:
-                    yield ContactCandidate(frames, frames, -d * BACK, p2, d, n2)
-                continue
-            # A tool point on a side of the tool as it is held (its up is kept).
-            usable = np.flatnonzero(np.abs(tool_normals @ up) < UP_COS)
-            if not len(usable):
-                continue
-            i = int(rng.choice(usable))
-            poses = _tool_poses(world, tool, tool_vertices, tool_points[i], tool_normals[i], p2, n2, n_s, level,
-                                gap, tcp_in_tool, rng, budget)
-            if poses:
-                yield ContactCandidate(poses, tuple(pose @ tcp_in_tool for pose in poses), n2 * BACK, p2, d, n2)
+            candidate = scene.candidate(p2, n2, d, rng)
+            if candidate is not None:
+                yield candidate
 
 
 def sample_contacts(world: "World", target: str, support: str, rng: np.random.Generator,
