@@ -759,3 +759,22 @@ def test_learn_train_refuses_classifiers_it_could_not_validate(com_fragment, tmp
                                    learn_train.default_config(1, 0), {}, {"command": "x"}, quiet=True)
     assert refused.value.variables == ["?g"] and refused.value.episodes == 30
     assert not os.path.exists(checkpoint) and open(com_fragment, encoding="utf-8").read() == before
+    assert not refused.value.all_used   # one success in 30: the advice is to play more
+
+
+def test_learn_train_says_when_every_held_out_proposal_was_used(com_fragment, tmp_path, monkeypatch):
+    """A trick whose first values always succeed leaves nothing rejected to learn from: the
+    refusal says so, rather than asking for more episodes."""
+    from pdsketch_mech.commands import learn_train
+    from pdsketch_mech.learning.sampler_training import ParamReport
+    from pdsketch_mech.lang.parser import parse_file
+
+    mechanism = parse_file(com_fragment).mechanisms[0]
+    monkeypatch.setattr(learn_train, "read_episodes", lambda data, count=None: [object()] * 30)
+    monkeypatch.setattr(learn_train, "parent_specs", lambda episodes: {"?g": ()})
+    monkeypatch.setattr(learn_train, "train_mechanism", lambda episodes, config, progress: (
+        object(), [ParamReport("?g", "grasp", rows=30, positives=30, validation_rows=6, validation_positives=6)]))
+    with pytest.raises(learn_train.Unvalidated) as refused:
+        learn_train.train_and_save("com", mechanism, com_fragment, str(tmp_path), str(tmp_path / "c.safetensors"),
+                                   learn_train.default_config(1, 0), {}, {"command": "x"}, quiet=True)
+    assert refused.value.all_used

@@ -130,8 +130,8 @@ def _inputs(args, config, out: str) -> List[str]:
     words: List[str] = []
     if os.path.abspath(default_fragment(args.name)) != os.path.abspath(config.fragment):
         words += ["--fragment", repo_path(config.fragment)]
-    if args.task is not None:
-        words += ["--task", config.task]
+    if args.task is not None:   # a distribution file as the user would name it, or a task's name
+        words += ["--task", repo_path(config.task) if os.path.isfile(config.task) else config.task]
     if args.out is not None:
         words += ["--out", repo_path(out)]
     return words
@@ -195,11 +195,14 @@ def train_command(args) -> int:
     except StoreError as exc:
         return fail(str(exc))
     except Unvalidated as exc:
+        advice = ("every proposal the held-out episodes drew was used: the samplers' first values already "
+                  "succeed, so there is nothing to learn and the mechanism plans as well without a checkpoint"
+                  if exc.all_used else "play more --episodes, or narrow the task distribution so that more of "
+                  "them succeed")
         print_error(PddlError(f"mechanism {mechanism.name}: the classifiers of {', '.join(exc.variables)} could not be "
                               f"validated (the held-out self-play episodes' proposals are all of one class; "
                               f"{exc.episodes} episodes used): no checkpoint written and the fragment unchanged; "
-                              "play more --episodes, or narrow the task distribution so that more of them succeed",
-                              mechanism.loc))
+                              f"{advice}", mechanism.loc))
         return EXIT_UNSOLVED
     if trained and args.compare:
         _compare(mechanism.name, config, checkpoint, args.compare)

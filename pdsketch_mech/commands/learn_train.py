@@ -88,9 +88,10 @@ def check_parameters(data: str, fragment: str, mechanism, variables: Sequence[st
 class Unvalidated(Exception):
     """Classifiers that no held-out episode could validate (its proposals all of one class)."""
 
-    def __init__(self, variables: Sequence[str], positives: int, episodes: int):
+    def __init__(self, variables: Sequence[str], positives: int, episodes: int, all_used: bool = False):
         super().__init__(", ".join(variables))
         self.variables, self.positives, self.episodes = list(variables), positives, episodes
+        self.all_used = all_used   # every held-out proposal was used: nothing was ever rejected
 
 
 def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: str, config: TrainConfig,
@@ -121,7 +122,9 @@ def train_and_save(name: str, mechanism, fragment: str, data: str, checkpoint: s
     info = {**info, "seconds_training": time.perf_counter() - started}
     untested = [r.variable for r in reports if not r.skipped and r.auc is None]
     if untested and not unvalidated:   # a classifier nothing held out could test is not handed to the planner
-        raise Unvalidated(untested, sum(r.positives for r in reports), len(episodes))
+        held_out = [r for r in reports if r.variable in untested]
+        raise Unvalidated(untested, sum(r.positives for r in reports), len(episodes),
+                          all_used=all(r.validation_rows and r.validation_positives == r.validation_rows for r in held_out))
     if untested:
         print(f"warning: mechanism {name}: the classifiers of {', '.join(untested)} could not be validated "
               "(--unvalidated: written anyway)", file=sys.stderr)
