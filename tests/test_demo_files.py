@@ -127,8 +127,10 @@ def test_a_step_that_fails_in_simulation_names_it_and_exits_1(tmp_path, capsys):
 def test_an_unreachable_pose_names_its_step(tmp_path, capsys):
     path = write_demo(tmp_path, [{"do": "move", "to": [2.0, 0.0, 0.3]}])
     status, line = record(path, capsys)
-    assert status == 1 and "step 1 (move): no way to approach the gripper pose at [2.0, 0.0, 0.3]: it is 2.00 m " \
-                           "from the robot's shoulder, beyond its reach (0.82 m)" in line, line
+    # By the rule docs/first-problem.md states: the flange, not the gripper point, within 0.82 m.
+    assert status == 1 and "step 1 (move): no way to approach the gripper pose at [2.0, 0.0, 0.3]: the arm's " \
+                           "flange (0.21 m behind the gripper point, along the fingers) would be 2.00 m from the " \
+                           "robot's shoulder, beyond its reach (0.82 m)" in line, line
 
 
 def test_a_blocked_pose_names_what_the_arm_would_hit(tmp_path, capsys):

@@ -149,6 +149,9 @@ def test_a_dead_step_counts_only_the_proposals_where_its_objects_start():
     assert failure_hint(failed, mechanisms=False) == ("never feasible where its objects start: grasp box table "
                                                       "(0 of 57 grasp proposals feasible); a mechanism "
                                                       "(--mechanisms all) may help")
+    # A fragment loaded but set aside by --basis-only is named, not "all" of the shipped ones.
+    assert failure_hint(failed, mechanisms=False, set_aside=["chain-push"]).endswith(
+        "planned without chain-push (--basis-only): with it, it may solve")
     assert failure_hint({}, mechanisms=True) is None
 
 

@@ -155,7 +155,8 @@ def plan_scene(loaded: LoadedDomain, problem: Problem, started: float, deadline:
     if result.status != "solved":
         from ..planner.failure_hint import failure_hint
         hint = failure_hint(result.stats.get("failed_steps", {}), not basis_only and bool(loaded.domain.mechanisms),
-                            result.stats.get("mechanisms"))
+                            result.stats.get("mechanisms"),
+                            set_aside=[m.name for m in loaded.domain.mechanisms] if basis_only else ())
         if hint:
             result.stats["hint"] = hint
     if scene_warnings:

@@ -42,12 +42,14 @@ def failed_steps(step_failures: Mapping[Tuple[str, str], int],
 
 
 def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool,
-                 by_mechanism: Optional[Mapping[str, Mapping[str, int]]] = None) -> Optional[str]:
+                 by_mechanism: Optional[Mapping[str, Mapping[str, int]]] = None,
+                 set_aside: Sequence[str] = ()) -> Optional[str]:
     """The hint an unsolved run prints: first a mechanism that got in the way (its certified
     facts failed more often than any step failed otherwise, in skeletons it crowded: what to
     try instead), then the steps never feasible where their objects start, then the steps
     that failed most and how (SHOWN steps in all), and, when the domain was planned without
-    mechanisms, that one may help; None when there is nothing to say."""
+    mechanisms, that one may help (those loaded but `set_aside` by --basis-only, or any);
+    None when there is nothing to say."""
     parts: List[str] = []
     blocker = _mechanism_in_the_way(failed, by_mechanism or {})
     if blocker:
@@ -60,7 +62,9 @@ def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool,
     if most[:SHOWN - len(dead)]:
         parts.append("most failures: " + ", then ".join(most[:SHOWN - len(dead)]))
     if not mechanisms:
-        parts.append("a mechanism (--mechanisms all) may help")
+        them = "it" if len(set_aside) == 1 else "them"
+        parts.append(f"planned without {', '.join(set_aside)} (--basis-only): with {them}, it may solve" if set_aside
+                     else "a mechanism (--mechanisms all) may help")
     return "; ".join(parts) or None
 
 

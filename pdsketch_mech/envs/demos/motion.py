@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 from ...operators.execution import fingers_touching, set_fingers_dynamic
 from ...world.collision import CollisionChecker
 from ...world.motion import cartesian_path, path_collision, plan_motion
-from ...world.robot import CLOSED, MAX_OPENING, REACH, SHOULDER
+from ...world.robot import CLOSED, MAX_OPENING, REACH, SHOULDER, WRIST
 
 if TYPE_CHECKING:
     from ...world.world import World
@@ -125,7 +125,7 @@ class Driver:
                 seed = world.arm() if attempt == 0 else kin.limits.sample(self.rng)
                 q = kin.ik(target, orn, self.rng, seed=seed, **IK_TOLERANCE)
                 if q is None:
-                    why.note(0, self._unreachable(target))
+                    why.note(0, self._unreachable(target, orn))
                     continue
                 q_pre = kin.ik(np.asarray(target) - back * axis, orn, self.rng, seed=q, restarts=1, **IK_TOLERANCE)
                 if q_pre is None:
@@ -157,12 +157,16 @@ class Driver:
                 return index
         raise DemoError(f"no way to approach the gripper pose at {np.round(poses[0][0], 3).tolist()}: {why}")
 
-    def _unreachable(self, target: Sequence[float]) -> str:
+    def _unreachable(self, target: Sequence[float], orn: Sequence[float]) -> str:
+        """Why no IK puts the gripper frame at `target` turned `orn`, by the rule docs state:
+        the flange, WRIST behind the gripper frame along the fingers, within REACH of the shoulder."""
         base = p.getBasePositionAndOrientation(self.world.robot, physicsClientId=self.world.client)[0]
         shoulder = np.asarray(base) + (0.0, 0.0, SHOULDER)
-        far = float(np.linalg.norm(np.asarray(target) - shoulder))
+        fingers = np.array(p.getMatrixFromQuaternion(orn)).reshape(3, 3)[:, 2]
+        far = float(np.linalg.norm(np.asarray(target) - WRIST * fingers - shoulder))
         if far > REACH:
-            return f"it is {far:.2f} m from the robot's shoulder, beyond its reach ({REACH:.2f} m)"
+            return (f"the arm's flange ({WRIST:.2f} m behind the gripper point, along the fingers) would be "
+                    f"{far:.2f} m from the robot's shoulder, beyond its reach ({REACH:.2f} m)")
         return "no arm configuration puts the gripper there turned that way"
 
     def _hitter(self) -> str:
@@ -208,7 +212,7 @@ class Driver:
             if path is None:
                 end = np.asarray(self.world.tcp_pose()[0]) + np.asarray(direction) / np.linalg.norm(direction) * remaining
                 raise DemoError(f"no straight motion of {distance:.3f} m along {np.round(direction, 2).tolist()}: "
-                                f"{self._unreachable(end)} (keeping the gripper turned as it is, "
+                                f"{self._unreachable(end, self.world.tcp_pose()[1])} (keeping the gripper turned as it is, "
                                 f"{remaining:.3f} m from its end)")
             if self.follow(path, steps, stop):
                 return True
