@@ -126,13 +126,13 @@ class Anchored(NamedTuple):
 
 
 def _situation(world: "World", request: SampleRequest) -> Tuple:
-    """What a step's proposals depend on, to the millimetre: the stream, where its objects
-    lie and what the hand holds how. The same values proposed twice in it would simulate the
-    same, so the demonstrated ones are proposed once per situation."""
+    """What a step's proposals depend on, to the millimetre: where its objects lie and what
+    the hand holds how (a sampler is its stream's for one mechanism's variable already). The
+    same values proposed twice in it would simulate the same, so the demonstrated ones are
+    proposed once per situation."""
     held = world.held_tcp_in_object() if world.attachment is not None else None
     poses = tuple((name, world.pose(name)) for name in request.objects() if name in world.bodies)
-    return (request.stream, request.step.mechanism, _rounded(poses), world.attachment and world.attachment.name,
-            _rounded(held))
+    return _rounded(poses), world.attachment and world.attachment.name, _rounded(held)
 
 
 def _rounded(value):

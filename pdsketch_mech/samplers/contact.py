@@ -240,7 +240,6 @@ class ContactScene:
     the held tool's side points (none for the bare gripper)."""
 
     world: "World"
-    target: str
     n_s: np.ndarray
     level: float
     top: float
@@ -250,6 +249,7 @@ class ContactScene:
     tool: Optional[str] = None
     tool_points: Optional[np.ndarray] = None
     tool_normals: Optional[np.ndarray] = None
+    usable: Optional[np.ndarray] = None      # indices of the tool points on a side as it is held
     tool_vertices: Optional[np.ndarray] = None
     tcp_in_tool: Optional[np.ndarray] = None
 
@@ -264,11 +264,13 @@ class ContactScene:
         target_pose = pose_matrix(world.pose(target))
         top = float(np.max((target_mesh.vertices @ target_pose[:3, :3].T + target_pose[:3, 3]) @ n_s)) - level
         tilt = np.abs(target_mesh.face_normals @ (target_pose[:3, :3].T @ n_s))
-        scene = ContactScene(world, target, n_s, level, top, SIDE_COS if np.any(tilt < SIDE_COS) else FLARED_COS,
-                             gap, budget)
+        scene = ContactScene(world, n_s, level, top, SIDE_COS if np.any(tilt < SIDE_COS) else FLARED_COS, gap, budget)
         if world.attachment is not None:
             scene.tool = world.attachment.name
             scene.tool_points, scene.tool_normals = tool_points
+            # A tool point on a side of the tool as it is held (its up is kept).
+            up = pose_matrix(world.pose(scene.tool))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
+            scene.usable = np.flatnonzero(np.abs(scene.tool_normals @ up) < UP_COS)
             scene.tool_vertices = np.asarray(body_mesh(world, scene.tool).vertices)
             scene.tcp_in_tool = pose_matrix(world.held_tcp_in_object())
         return scene
@@ -289,12 +291,9 @@ class ContactScene:
         if self.tool is None:
             frames = _gripper_frames(p2, d, self.n_s, self.level, self.top, self.gap, rng)
             return ContactCandidate(frames, frames, -d * BACK, p2, d, n2) if frames else None
-        # A tool point on a side of the tool as it is held (its up is kept).
-        up = pose_matrix(self.world.pose(self.tool))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
-        usable = np.flatnonzero(np.abs(self.tool_normals @ up) < UP_COS)
-        if not len(usable):
+        if not len(self.usable):
             return None
-        i = int(rng.choice(usable))
+        i = int(rng.choice(self.usable))
         poses = _tool_poses(self.world, self.tool, self.tool_vertices, self.tool_points[i], self.tool_normals[i], p2,
                             n2, self.n_s, self.level, self.gap, self.tcp_in_tool, rng, self.budget)
         return ContactCandidate(poses, tuple(pose @ self.tcp_in_tool for pose in poses), n2 * BACK, p2, d, n2) \

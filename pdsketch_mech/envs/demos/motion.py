@@ -210,9 +210,10 @@ class Driver:
                 self._planned_line(direction, remaining)
                 return False
             if path is None:
-                end = np.asarray(self.world.tcp_pose()[0]) + np.asarray(direction) / np.linalg.norm(direction) * remaining
+                position, orn = self.world.tcp_pose()
+                end = np.asarray(position) + np.asarray(direction) / np.linalg.norm(direction) * remaining
                 raise DemoError(f"no straight motion of {distance:.3f} m along {np.round(direction, 2).tolist()}: "
-                                f"{self._unreachable(end, self.world.tcp_pose()[1])} (keeping the gripper turned as it is, "
+                                f"{self._unreachable(end, orn)} (keeping the gripper turned as it is, "
                                 f"{remaining:.3f} m from its end)")
             if self.follow(path, steps, stop):
                 return True
