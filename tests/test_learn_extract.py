@@ -190,14 +190,19 @@ def test_roles_name_the_variables():
         "poking": ["?tool", "?target", "?support"],
         "com": ["?target", "?support", "?surface"],
         "slope-blocker": ["?blocker", "?target", "?support", "?surface"],
-        "gap-push": ["?tool", "?target", "?support", "?object"],
-        "ramp-slide": ["?target", "?support", "?surface", "?object"],
+        "gap-push": ["?tool", "?target", "?support", "?landing"],
+        "ramp-slide": ["?target", "?support", "?surface", "?landing"],
     }
     # The ramp neither the start nor the goal mentions is pinned by what the demonstration
     # shows of it: fixed, and none of the other objects.
     ramp = extracted("ramp-slide").lifted.mechanism.precondition.parts
     assert n.Atom("fixed", (n.Var("?surface"),)) in ramp
-    assert n.Not(n.Equals(n.Var("?surface"), n.Var("?object"))) in ramp
+    assert n.Not(n.Equals(n.Var("?surface"), n.Var("?landing"))) in ramp
+    # The platform the box is pushed onto, which only the goal names, is pinned likewise:
+    # fixed, and neither the table it started on nor the box.
+    gap = extracted("gap-push").lifted.mechanism.precondition.parts
+    assert n.Atom("fixed", (n.Var("?landing"),)) in gap
+    assert n.Not(n.Equals(n.Var("?landing"), n.Var("?support"))) in gap
     com = extracted("com").lifted.mechanism
     assert n.Not(n.Atom("support", (n.Var("?target"), n.Var("?support")))) in com.certified.parts
 

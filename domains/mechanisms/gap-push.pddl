@@ -10,18 +10,22 @@
 ;   ?tool = stick: held while it pushes another object
 ;   ?target = target: moved by the robot, named by the goal
 ;   ?support = table: supports the target, tool at the start
-;   ?object = platform: named by the goal
+;   ?landing = platform: a moved object comes to rest on it by itself (the goal)
 (define (domain gap-push)
   (:extends "../basis.pddl")
   (:requirements :mechanisms)
   (:mechanism gap-push
-    :parameters (?tool ?target ?support ?object - item ?g - grasp ?t1 - traj ?c - contact ?t2 - traj ?p - placement ?t3 - traj)
+    :parameters (?tool ?target ?support ?landing - item ?g - grasp ?t1 - traj ?c - contact ?t2 - traj ?p - placement ?t3 - traj)
     :precondition (and
       (handempty)
       (support ?tool ?support)
       (support ?target ?support)
-      (not (= ?tool ?target)))
-    :certified (and (support ?target ?object) (handempty))
+      (not (= ?tool ?target))
+      (fixed ?landing)
+      (not (= ?landing ?tool))
+      (not (= ?landing ?target))
+      (not (= ?landing ?support)))
+    :certified (and (support ?target ?landing) (handempty))
     :actions (
       (grasp ?tool ?support ?g ?t1)
       (move-cont ?tool ?target ?support ?c ?t2)

@@ -9,20 +9,24 @@
 ;   ?target = block: moved by the robot, named by the goal
 ;   ?support = table: supports the target at the start
 ;   ?surface = ramp: something is put down on it
-;   ?object = platform: named by the goal
+;   ?landing = platform: a moved object comes to rest on it by itself (the goal)
 (define (domain ramp-slide)
   (:extends "../basis.pddl")
   (:requirements :mechanisms)
   (:mechanism ramp-slide
-    :parameters (?target ?support ?surface ?object - item ?g - grasp ?t1 - traj ?p - placement ?t2 - traj)
+    :parameters (?target ?support ?surface ?landing - item ?g - grasp ?t1 - traj ?p - placement ?t2 - traj)
     :precondition (and
       (handempty)
       (support ?target ?support)
       (fixed ?surface)
       (not (= ?surface ?target))
       (not (= ?surface ?support))
-      (not (= ?surface ?object)))
-    :certified (and (support ?target ?object) (handempty))
+      (not (= ?surface ?landing))
+      (fixed ?landing)
+      (not (= ?landing ?target))
+      (not (= ?landing ?support))
+      (not (= ?landing ?surface)))
+    :certified (and (support ?target ?landing) (handempty))
     :actions (
       (grasp ?target ?support ?g ?t1)
       (place ?target ?surface ?p ?t2))

@@ -9,6 +9,8 @@ name or category; the first rule that fits names it:
     weight    moved, and ends up resting on a target
     blocker   moved, and ends up touching a target without supporting it
     object    moved, none of the above
+    landing   named by the goal only, as what a moved object comes to rest on by itself
+              (falls, tips or slides onto: no step puts it there)
     support   supports a moved object at the start; the first one found is `support`, the
               others `<role>-support` after the role of what they support (Lever: the
               ledge under the target is `target-support`)
@@ -23,10 +25,10 @@ The precondition is the initial contact-mode graph restricted to the involved bo
 hand (`handempty` / `holding`) and every `support` — plus `(not (= ?a ?b))` for each pair of
 moved bodies (two of them may otherwise be grounded on one object). `touching` facts are
 left out: no basis operator maintains them, so requiring one would only stop the mechanism
-from applying. A body neither that graph nor the goal mentions (a ramp something is put on to
-slide off) is pinned by what the demonstration shows of it: `(fixed ?x)` if it never moves,
-and `(not (= ?x ?y))` for every other parameter. The certified effect is the demonstration's
-goal, lifted the same way.
+from applying. A body neither that graph nor the goal mentions (a ramp something is put on
+to slide off), and a landing place, are pinned by what the demonstration shows of them:
+`(fixed ?x)` if fixed in the scene, and `(not (= ?x ?y))` for every other parameter. The
+certified effect is the demonstration's goal, lifted the same way.
 """
 from __future__ import annotations
 
@@ -57,6 +59,18 @@ def goal_objects(goal: Formula) -> Set[str]:
             atom = lit.atom
             terms = (atom.left, atom.right) if isinstance(atom, Equals) else atom.args
             out |= {t.name for t in terms if isinstance(t, Const)}
+    return out
+
+
+def _landing_places(goal: Formula, moved: Set[str]) -> Set[str]:
+    """What the goal says a moved object rests on: `(support X Y)` with X moved, positive."""
+    out: Set[str] = set()
+    for conj in dnf(goal, {}):
+        for lit in conj:
+            atom = lit.atom
+            if (lit.positive and isinstance(atom, Atom) and atom.predicate == "support"
+                    and len(atom.args) == 2 and all(isinstance(t, Const) for t in atom.args) and atom.args[0].name in moved):
+                out.add(atom.args[1].name)
     return out
 
 
@@ -151,9 +165,11 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
     to (`fixed`: the bodies that never move)."""
     role, why = assign_roles(ex, names, goal)
     # Bodies only the goal names (not involved in any step) become parameters too.
+    landed_on = _landing_places(goal, {names[m] for m in ex.moved})
     for o, n in enumerate(names):
         if n in goal_objects(goal) and o not in role and o != 0:
-            role[o], why[o] = "object", "named by the goal"
+            role[o], why[o] = (("landing", "a moved object comes to rest on it by itself (the goal)") if n in landed_on
+                               else ("object", "named by the goal"))
     order = [o for o in ex.moved if o in role] + [o for o in ex.involved if o in role and o not in ex.moved]
     order += [o for o in role if o not in order]
     variables = _number([(o, role[o]) for o in order])
@@ -195,8 +211,8 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
         for b in moved[i + 1:]:
             pre.append(Not(Equals(Var(variables[a]), Var(variables[b]))))
     certified = rename_terms(goal, by_name, strict=True)
-    pre += _pinned([o for o in order if variables[o] not in _variables(And(tuple(pre + [certified])))],
-                   order, variables, fixed)
+    mentioned = _variables(And(tuple(pre + [certified])))
+    pre += _pinned([o for o in order if variables[o] not in mentioned or role[o] == "landing"], order, variables, fixed)
     parameters = tuple(TypedName(variables[o], OBJECT_TYPE) for o in order) + tuple(value_params)
     mechanism = Mechanism(name, parameters, And(tuple(pre)) if len(pre) != 1 else pre[0], certified, tuple(calls))
     return Lifted(mechanism, {o: variables[o] for o in order}, why)
@@ -204,9 +220,10 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
 
 def _pinned(free: Sequence[int], order: Sequence[int], variables: Dict[int, str],
             fixed: Collection[int]) -> List[Formula]:
-    """For a body neither the precondition nor the goal mentions (the ramp something is put
-    on to slide off), what the demonstration shows of it: fixed or not, and another body than
-    the others; otherwise the mechanism would apply with any object in its place."""
+    """For a body the precondition does not mention (the ramp something is put on to slide
+    off, the platform a pushed object falls onto), what the demonstration shows of it: fixed
+    or not, and another body than the others; otherwise the mechanism would apply with any
+    object in its place (the table it started on, the object itself)."""
     out: List[Formula] = []
     for o in free:
         if o in fixed:
