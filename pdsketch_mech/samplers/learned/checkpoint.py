@@ -14,14 +14,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
 from ...lang.errors import PddlError
 from ...lang.nodes import Loc, Mechanism
-from ...lang.writer import write_mechanism
+from .definition import definition_text, mechanism_hash, serves
 from .forward import NumpyClassifiers
 from .specs import EncoderConfig, ParamSpec
 
@@ -46,11 +45,6 @@ class CheckpointError(ValueError):
         return PddlError(self.message, self.loc)
 
 
-def mechanism_hash(mechanism: Mechanism) -> str:
-    """sha256 of the mechanism as written, without its `:sampler` and source location."""
-    return hashlib.sha256(write_mechanism(replace(mechanism, sampler=None)).encode()).hexdigest()
-
-
 def metadata_path(weights: str) -> str:
     base = weights[:-len(".safetensors")] if weights.endswith(".safetensors") else weights
     return base + ".json"
@@ -65,6 +59,7 @@ def save(weights: str, model: "MechanismClassifiers", mechanism: Mechanism, info
     with atomic_file(weights, binary=True, suffix=".safetensors") as handle:
         handle.write(to_bytes(tensors))
     meta = {"schema": SCHEMA, "mechanism": mechanism.name, "mechanism_hash": mechanism_hash(mechanism),
+            "definition": definition_text(mechanism),
             "encoder": model.encoder.to_json(), "parameters": [s.to_json() for s in model.specs.values()],
             **info}
     write_json(metadata_path(weights), meta)
@@ -88,7 +83,8 @@ def read(weights: str, mechanism: Mechanism, fragment: str) -> Tuple[Dict[str, n
             f"{weights} was trained for mechanism '{meta.get('mechanism')}', not '{mechanism.name}' (in {fragment}); "
             f"train one for it (python -m pdsketch_mech.learn train {mechanism.name} --fragment {fragment}) or "
             "plan with --no-learned-samplers")
-    if meta.get("mechanism_hash") != mechanism_hash(mechanism):
+    named = {s.get("variable") for s in meta.get("parameters", []) if isinstance(s, dict)}
+    if not serves(meta.get("definition"), meta.get("mechanism_hash"), mechanism, named):
         raise CheckpointError(
             f"{weights} was trained for another definition of mechanism '{mechanism.name}' than the one "
             f"in {fragment}; retrain it (python -m pdsketch_mech.learn train {mechanism.name} --fragment {fragment} "
