@@ -1,6 +1,6 @@
 """A checkpoint serves the definition it was trained for and any that only narrows it:
 object parameters renamed, preconditions added. Anything else is refused."""
-from dataclasses import replace
+import hashlib
 
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.samplers.learned.definition import definition_text, mechanism_hash, serves
@@ -59,3 +59,10 @@ def test_a_recorded_definition_that_does_not_match_its_hash_is_not_trusted():
     landing = _mechanism(TRAINED.replace("?object", "?landing"))
     assert not serves(text, "0" * 64, landing, VALUES)
     assert not serves(text.replace("(handempty) ", ""), mechanism_hash(_mechanism(TRAINED)), landing, VALUES)
+
+
+def test_a_recorded_definition_that_is_not_text_is_not_trusted_and_raises_nothing():
+    landing = _mechanism(TRAINED.replace("?object", "?landing"))
+    for broken in (12, ["(:mechanism"], {"a": 1}, "(:mechanism push-off", "((((((" * 2000):
+        digest = hashlib.sha256(broken.encode()).hexdigest() if isinstance(broken, str) else "0" * 64
+        assert not serves(broken, digest, landing, VALUES)

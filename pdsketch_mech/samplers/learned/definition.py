@@ -43,7 +43,7 @@ def serves(trained: Optional[str], trained_hash: Optional[str], mechanism: Mecha
     name (they must keep their names and places)."""
     if trained_hash == mechanism_hash(mechanism):
         return True
-    if not trained or hashlib.sha256(trained.encode()).hexdigest() != trained_hash:
+    if not isinstance(trained, str) or hashlib.sha256(trained.encode()).hexdigest() != trained_hash:
         return False
     old = _parse(trained)
     if old is None or old.name != mechanism.name or len(old.parameters) != len(mechanism.parameters):
@@ -60,7 +60,7 @@ def serves(trained: Optional[str], trained_hash: Optional[str], mechanism: Mecha
 def _parse(text: str) -> Optional[Mechanism]:
     try:
         node = parse_text(f"(define (domain checkpoint) (:requirements :mechanisms) {text})", "<checkpoint>")
-    except PddlError:
+    except (PddlError, RecursionError):   # a metadata file written by hand: not a definition
         return None
     return node.mechanisms[0] if isinstance(node, Domain) and len(node.mechanisms) == 1 else None
 
