@@ -64,7 +64,7 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
     print(timeline_text(extraction))
     text = fragment_text(extraction, out, command, sampler=named_sampler(out, name))
     try:
-        fragment = check_fragment(text, out)
+        fragment, actions = check_fragment(text, out)
     except PddlError as exc:  # a bug, not the user's fault: say so plainly
         return fail(f"the extracted fragment does not check: {exc}")
     status = "wrote"
@@ -94,7 +94,7 @@ def _extract(args, recording, name: str, out: str, command: str) -> int:
     print(f"{anchors_status} {shown_path(anchors_out)}: what the demonstration did, which its samplers try first",
           file=sys.stderr)
     demo_objects = {variable: extraction.names[body] for body, variable in extraction.lifted.roles.items()}
-    for line in mechanism_summary(fragment.mechanisms[0], demo_objects):
+    for line in mechanism_summary(fragment.mechanisms[0], demo_objects, actions):
         print("  " + line, file=sys.stderr)
     if args.render:
         frames = _render(extraction, args.render)

@@ -10,11 +10,11 @@ from __future__ import annotations
 import os
 import tempfile
 from dataclasses import dataclass, replace
-from typing import Dict, List, Optional, Sequence, Set
+from typing import Dict, List, Optional, Sequence, Set, Tuple
 
 from ..lang.errors import PddlError
 from ..lang.loader import SHIPPED_BASIS, load_domain
-from ..lang.nodes import Domain, Formula, Problem
+from ..lang.nodes import Action, Domain, Formula, Problem
 from ..lang.parser import parse_text
 from ..lang.writer import formula, write_domain
 from ..symbolic.normalize import holds
@@ -127,21 +127,22 @@ def fragment_text(extraction: Extraction, out_path: str, command: str, basis_pat
     return "\n".join(header_comment(extraction, command)) + "\n" + body
 
 
-def check_fragment(text: str, out_path: str) -> Domain:
+def check_fragment(text: str, out_path: str) -> Tuple[Domain, Tuple[Action, ...]]:
     """Parse `text` back and type-check it with what it extends, as if it were at `out_path`
-    (a temporary file beside it, so `:extends` resolves the same way). Returns the fragment."""
+    (a temporary file beside it, so `:extends` resolves the same way). Returns the fragment
+    and the actions it extends (what its steps need)."""
     folder = os.path.dirname(os.path.abspath(out_path))
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".pddl")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(text)
-        load_domain([tmp])
+        actions = load_domain([tmp]).domain.actions
         fragment = parse_text(text, file=out_path)
     finally:
         os.unlink(tmp)
     if not isinstance(fragment, Domain):
         raise ExtractionError("the written fragment does not parse as a domain")
-    return fragment
+    return fragment, actions
 
 
 
