@@ -288,6 +288,12 @@ def test_cli_writes_the_timeline_and_the_fragment_and_keeps_a_different_one(tmp_
     forced = run_cli("extract", os.path.join(DEMOS_DIR, "hook.npz"), "--name", "hook-use", "--out", str(out),
                      "--force")
     assert forced.returncode == 0 and "(not (= ?tool ?target))" in out.read_text()
+    # A new recording of the same demonstration changes only the step times in the comments.
+    as_extracted = out.read_text()
+    out.write_text(as_extracted.replace(" at ", " at 1", 1))
+    retimed = run_cli("extract", os.path.join(DEMOS_DIR, "hook.npz"), "--name", "hook-use", "--out", str(out))
+    assert retimed.returncode == 2 and "the mechanism is the same, only the comments differ" in retimed.stderr
+    out.write_text(as_extracted)
     # A fragment that names a learned sampler keeps naming it when re-extracted.
     (tmp_path / "hook-use.samplers.safetensors").write_bytes(b"")
     out.write_text(out.read_text().replace("(grasp ?target ?support ?g2 ?t4))))",

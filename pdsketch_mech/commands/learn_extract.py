@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import sys
 import time
+from dataclasses import replace
 from typing import List, Optional, Tuple
 
 from ..lang.errors import PddlError
@@ -146,10 +147,19 @@ def _what_differs(out: str, existing_text: str, new_text: str, fragment) -> str:
         return f"it extends {', '.join(existing.extends)} instead of {', '.join(fragment.extends)}"
     old, new = existing_text.splitlines(), new_text.splitlines()
     line = next((i for i, (a, b) in enumerate(zip(old, new)) if a != b), min(len(old), len(new)))
-    what = "comments differ" if all(t.lstrip().startswith(";") for t in old[line:line + 1] + new[line:line + 1]) \
-        else "text differs"
-    return (f"the mechanism is the same up to variable names, but the {what} from line {line + 1} "
-            f"({(old[line] if line < len(old) else '<end of file>').strip()[:60]!r})")
+    changed = [a for a, b in zip(old, new) if a != b] + [b for a, b in zip(old, new) if a != b]
+    comments_only = len(old) == len(new) and all(t.lstrip().startswith(";") for t in changed)
+    same = "the same" if _mechanism_text(existing) == _mechanism_text(fragment) else "the same up to variable names"
+    shown = (old[line] if line < len(old) else "<end of file>").strip()[:60]
+    if comments_only:
+        return (f"the mechanism is {same}, only the comments differ (from line {line + 1}: {shown!r}; "
+                "a new recording of the same demonstration changes its times)")
+    return f"the mechanism is {same}, but the text differs from line {line + 1} ({shown!r})"
+
+
+def _mechanism_text(domain) -> str:
+    from ..lang.writer import write_mechanism
+    return write_mechanism(replace(domain.mechanisms[0], sampler=None))
 
 
 def _render(extraction, path: str) -> List[int]:
