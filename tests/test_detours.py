@@ -116,3 +116,30 @@ def test_a_skeleton_with_detours_does_not_hold_back_the_ones_behind_it(hook_slop
     assert chosen is window[1]   # the next in the search's order jumps the queue
     supply.take(chosen)
     assert first in supply.upcoming() and supply.taken == 1
+
+
+def test_when_every_path_repeats_a_dead_step_the_supply_returns_instead_of_searching_on(hook_slope):
+    """The search gives paths through dead steps without end once only those are left; the
+    supply sets `lookahead` of them aside and returns, so the planner can revisit a belief."""
+    task, _, _ = hook_slope
+    evidence = Evidence(task)
+    supply = SkeletonSupply(task, evidence, deadline=time.perf_counter() + 20)
+    evidence.blocks = lambda keys: True   # as if every skeleton repeated a dead pristine step
+    started = time.perf_counter()
+    assert supply.upcoming() == supply._deferred[:1]
+    assert supply.deferrals == DEFAULT_BUDGET.lookahead and time.perf_counter() - started < 15
+
+
+def test_the_dead_step_due_first_is_revived_when_nothing_else_can_be_worked_on(hook_slope):
+    task, _, _ = hook_slope
+    evidence = Evidence(task)
+    early, late = ("grasp", ("target", "table"), None), ("grasp", ("tool", "table"), None)
+    for key in (early, late):   # the later one dies after more work: its revisit is further off
+        for _ in range(DEFAULT_BUDGET.dead_after):
+            evidence.ran_dry(key)
+        evidence.advance(evidence.revisit_at[early] - 1)
+    assert early in evidence.dead and late in evidence.dead
+    assert evidence.revisit_at[early] < evidence.revisit_at[late]
+    assert evidence.revive_earliest() and early not in evidence.dead and evidence.revived[-1] == early
+    assert evidence.revive_earliest() and evidence.revived[-1] == late
+    assert not evidence.revive_earliest()

@@ -138,6 +138,11 @@ class BilevelSearch:
     def _choose(self) -> Optional[Refinement]:
         """The refinement the score puts first, created if it is an upcoming skeleton."""
         window = self.supply.upcoming()
+        # Nothing is being refined and every skeleton left repeats a step believed dead: the
+        # work, the revisits' clock, would stand still, so the revisit due first comes now.
+        while not self.active and all(self.evidence.blocks(s.pristine) for s in window) \
+                and self.evidence.revive_earliest():
+            window = self.supply.upcoming()
         self.sampler.promise.register(g for skeleton in window for g in skeleton.groundings())
         if self.sampler.learned:
             self.probes.probe(window)

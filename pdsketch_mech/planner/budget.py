@@ -26,7 +26,7 @@ class SearchBudget:
     window: int = 8             # skeletons: upcoming ones from the symbolic search the schedule chooses among,
                                 # counting only those whose estimate is at least `contention` ...
     contention: float = 0.25    # ratio: ... (two halvings below an unknown skeleton's) ...
-    lookahead: int = 64         # skeletons: ... up to this many in view in all
+    lookahead: int = 64         # skeletons: ... up to this many in view in all (and set aside in a row)
     skeleton_visits: int = 50   # paths: the symbolic enumeration's first bound on expansions of a state
                                 # at one cost (doubles each time it runs out: symbolic/skeletons.py)
     skeleton_cost: int = 40     # basis steps: the enumeration's first bound on a plan's cost (doubles likewise)

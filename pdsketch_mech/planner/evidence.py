@@ -155,6 +155,19 @@ class Evidence:
             self.revived.append(key)
         return bool(due)
 
+    def revive_earliest(self) -> bool:
+        """Nothing else can be worked on (every path left repeats a step believed dead): the
+        dead step whose revisit is due first is believed alive again now, as if the work had
+        grown to it. False if no step is believed dead."""
+        if not self.revisit_at:
+            return False
+        key = min(self.revisit_at, key=lambda k: (self.revisit_at[k], str(k)))
+        del self.dead[key], self.revisit_at[key]
+        self.dry[key] = 0
+        self.revivals += 1
+        self.revived.append(key)
+        return True
+
     def found(self, key: Optional[StepKey]) -> None:
         """Pristine step `key` had a feasible value (it simulated without error): never dead."""
         if key is not None and key not in self.feasible:

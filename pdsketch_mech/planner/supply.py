@@ -16,7 +16,8 @@ behind it.
 One that repeats a pristine step believed dead (evidence.py) is deferred: kept aside, in the
 order it was found, and handed out again as soon as that step is believed alive again (the
 evidence revisits its verdicts on a growing schedule), or once the search has no more; the
-search itself puts paths through dead steps last. Nothing is dropped and nothing is capped:
+search itself puts paths through dead steps last, and gives them without end once only those
+are left, so it is asked for at most `lookahead` in a row. Nothing is dropped and nothing is capped:
 skeletons keep coming for as long as the planner asks.
 """
 from __future__ import annotations
@@ -163,8 +164,9 @@ class SkeletonSupply:
 
     def _next(self) -> Optional[Skeleton]:
         """The next skeleton from the searches that repeats no dead pristine step (None when
-        they have no more, or at the deadline)."""
-        while True:
+        they have no more, at the deadline, or after setting `lookahead` aside in a row: when
+        every path left repeats a dead step, the search gives such paths without end)."""
+        for _ in range(self.budget.lookahead):
             found = self._next_plan()
             if found is None:
                 return None
@@ -177,3 +179,4 @@ class SkeletonSupply:
             if not self.evidence.blocks(skeleton.pristine):
                 return skeleton
             self.defer(skeleton)
+        return None
