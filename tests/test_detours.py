@@ -128,6 +128,11 @@ def test_when_every_path_repeats_a_dead_step_the_supply_returns_instead_of_searc
     started = time.perf_counter()
     assert supply.upcoming() == supply._deferred[:1]
     assert supply.deferrals == DEFAULT_BUDGET.lookahead and time.perf_counter() - started < 15
+    supply.upcoming()   # until a verdict changes, the search is not asked again
+    assert supply.deferrals == DEFAULT_BUDGET.lookahead
+    evidence.revivals += 1   # a dead step believed alive again: ask it
+    supply.upcoming()
+    assert supply.deferrals == 2 * DEFAULT_BUDGET.lookahead
 
 
 def test_the_dead_step_due_first_is_revived_when_nothing_else_can_be_worked_on(hook_slope):

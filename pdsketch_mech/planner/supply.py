@@ -85,6 +85,8 @@ class SkeletonSupply:
         self._window: List[Skeleton] = []       # the next ones from the search
         self._revivals = 0                      # the evidence's revived steps looked at
         self._cleared = 0                       # the evidence's cleared steps looked at
+        self._only_dead: Optional[Tuple[int, int]] = None   # the evidence's (revivals, cleared) when the
+        # search last gave nothing but paths through dead steps: until a verdict changes, it still does
         self.found = 0                          # skeletons found so far (their numbers)
         self.taken = 0                          # skeletons handed out
         self.deferrals = 0                      # skeletons set aside (statistics)
@@ -106,7 +108,8 @@ class SkeletonSupply:
         # view (up to `lookahead` in all).
         least = self.budget.contention
         in_contention = sum(self.evidence.estimate(s) >= least for s in self._window)
-        while in_contention < self.budget.window and len(self._window) < self.budget.lookahead:
+        asked = self._only_dead != (self.evidence.revivals, self.evidence.cleared)
+        while asked and in_contention < self.budget.window and len(self._window) < self.budget.lookahead:
             skeleton = self._next()
             if skeleton is None:
                 break
@@ -179,4 +182,5 @@ class SkeletonSupply:
             if not self.evidence.blocks(skeleton.pristine):
                 return skeleton
             self.defer(skeleton)
+        self._only_dead = (self.evidence.revivals, self.evidence.cleared)
         return None
