@@ -6,7 +6,6 @@ from __future__ import annotations
 import os
 import sys
 import time
-from dataclasses import replace
 from typing import List, Optional, Tuple
 
 from ..lang.errors import PddlError
@@ -133,6 +132,7 @@ def _what_differs(out: str, existing_text: str, new_text: str, fragment) -> str:
     from ..lang.nodes import Domain
     from ..lang.parser import parse_text
     from ..learning.compare import differences
+    from ..samplers.learned.definition import mechanism_hash
 
     try:
         existing = parse_text(existing_text, file=out)
@@ -147,19 +147,15 @@ def _what_differs(out: str, existing_text: str, new_text: str, fragment) -> str:
         return f"it extends {', '.join(existing.extends)} instead of {', '.join(fragment.extends)}"
     old, new = existing_text.splitlines(), new_text.splitlines()
     line = next((i for i, (a, b) in enumerate(zip(old, new)) if a != b), min(len(old), len(new)))
-    changed = [a for a, b in zip(old, new) if a != b] + [b for a, b in zip(old, new) if a != b]
+    changed = [text for a, b in zip(old, new) if a != b for text in (a, b)]
     comments_only = len(old) == len(new) and all(t.lstrip().startswith(";") for t in changed)
-    same = "the same" if _mechanism_text(existing) == _mechanism_text(fragment) else "the same up to variable names"
+    exact = mechanism_hash(existing.mechanisms[0]) == mechanism_hash(fragment.mechanisms[0])
+    same = "the same" if exact else "the same up to variable names"
     shown = (old[line] if line < len(old) else "<end of file>").strip()[:60]
     if comments_only:
         return (f"the mechanism is {same}, only the comments differ (from line {line + 1}: {shown!r}; "
                 "a new recording of the same demonstration changes its times)")
     return f"the mechanism is {same}, but the text differs from line {line + 1} ({shown!r})"
-
-
-def _mechanism_text(domain) -> str:
-    from ..lang.writer import write_mechanism
-    return write_mechanism(replace(domain.mechanisms[0], sampler=None))
 
 
 def _render(extraction, path: str) -> List[int]:

@@ -149,10 +149,7 @@ class Evidence:
         self.work = work
         due = [key for key, at in self.revisit_at.items() if at <= work and key in self.dead]
         for key in due:
-            del self.dead[key], self.revisit_at[key]
-            self.dry[key] = 0
-            self.revivals += 1
-            self.revived.append(key)
+            self._revive(key)
         return bool(due)
 
     def revive_earliest(self) -> bool:
@@ -161,12 +158,15 @@ class Evidence:
         grown to it. False if no step is believed dead."""
         if not self.revisit_at:
             return False
-        key = min(self.revisit_at, key=lambda k: (self.revisit_at[k], str(k)))
+        self._revive(min(self.revisit_at, key=lambda k: (self.revisit_at[k], str(k))))
+        return True
+
+    def _revive(self, key: StepKey) -> None:
+        """Dead step `key` is believed alive again: its dry visits start over."""
         del self.dead[key], self.revisit_at[key]
         self.dry[key] = 0
         self.revivals += 1
         self.revived.append(key)
-        return True
 
     def found(self, key: Optional[StepKey]) -> None:
         """Pristine step `key` had a feasible value (it simulated without error): never dead."""
