@@ -9,6 +9,7 @@ from typing import Dict, List, Sequence, Set, Tuple
 
 from ..lang.nodes import Action, And, Atom, Equals, Formula, Mechanism, Not, Var
 from ..lang.writer import formula
+from .lifting import rename_terms
 
 # How a basis fact reads; anything else is written as it is in the fragment.
 WORDS = {"support": "{0} rests on {1}", "holding": "{0} is held", "handempty": "the hand is empty",
@@ -42,20 +43,9 @@ def _step_needs(mechanism: Mechanism, actions: Sequence[Action]) -> List[Tuple[b
     for call in mechanism.actions:
         action = by_name.get(call.name)
         if action is not None and len(action.parameters) == len(call.args):
-            binding = {p.name: a for p, a in zip(action.parameters, call.args)}
-            out += [(positive, _bound(f, binding)) for positive, f in _literals(action.precondition)]
+            names = {p.name: a.name for p, a in zip(action.parameters, call.args) if isinstance(a, Var)}
+            out += [(positive, rename_terms(f, names)) for positive, f in _literals(action.precondition)]
     return out
-
-
-def _bound(f: Formula, binding: Dict[str, object]) -> Formula:
-    """A literal's atom with the operator's variables replaced by the step's arguments."""
-    def term(t):
-        return binding.get(t.name, t) if isinstance(t, Var) else t
-    if isinstance(f, Atom):
-        return Atom(f.predicate, tuple(term(a) for a in f.args))
-    if isinstance(f, Equals):
-        return Equals(term(f.left), term(f.right))
-    return f
 
 
 def mechanism_summary(mechanism: Mechanism, demo_objects: Dict[str, str],
