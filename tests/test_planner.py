@@ -1,5 +1,6 @@
 """Basis operators change the contact graph as their effects say; the bilevel planner solves
 manipulation problems end to end, and its plans replay in a fresh world."""
+import glob
 import json
 import os
 import time
@@ -206,3 +207,42 @@ def test_a_first_step_that_looks_dead_for_its_first_visits_is_revisited_and_the_
     stats = result.stats
     assert stats["revived"] >= 1 and stats["returned"] >= 1 and stats["pruned"] >= 1   # set aside, then back
     assert not stats["dead_steps"]                                                      # cleared for good
+
+
+def _plan_with(problem_path, paths, mechanisms):
+    domain, problem = load_problem(problem_path, [load_domain(paths)])
+    with build_world(problem) as world:
+        return bilevel_plan(domain, problem, world, timeout=120, seed=0, use_mechanisms=mechanisms)
+
+
+def test_with_mechanisms_loaded_the_basis_operators_search_runs_as_it_does_alone():
+    """The contract by construction (docs/planner.md, "Two searches side by side"): with every
+    shipped mechanism loaded on a scene that needs none (two objects swap plates), the basis
+    operators' own search creates the skeletons `--basis-only` creates and gives each the
+    same work, and the whole run stays within head_start + W / plain_share (+ one slice)."""
+    from pdsketch_mech.planner.budget import DEFAULT_BUDGET as budget
+    path = os.path.join(ROOT, "problems", "contract", "scene-swap-plates.pddl")
+    every = sorted(glob.glob(os.path.join(ROOT, "domains", "mechanisms", "*.pddl")))
+    alone = _plan_with(path, [BASIS], False)
+    both = _plan_with(path, [BASIS] + every, True)
+    assert alone.status == both.status == "solved"
+    plain = [(e["skeleton"], e["effort"]) for e in both.stats["skeleton_log"] if e["search"] == "basis"]
+    assert plain == [(e["skeleton"], e["effort"]) for e in alone.stats["skeleton_log"]]
+    assert both.stats["plain_work"] == alone.stats["work"]
+    assert any(e["search"] == "mechanisms" for e in both.stats["skeleton_log"])   # the mechanisms had their turn
+    assert both.stats["work"] <= budget.head_start + alone.stats["work"] / budget.plain_share + budget.slice
+
+
+@pytest.mark.slow
+def test_a_users_mechanism_that_does_not_apply_costs_at_most_the_plain_share_of_the_work():
+    """On a Slope-and-Blocker scene the basis operators solve (the blocker on the slope,
+    then the block against it), a user's shelf pull is loaded whose skeletons (the blocker
+    on the slope, then pull the block onto it) look as short and never keep their promise:
+    the plan comes within head_start + W / plain_share units, W the basis operators' own."""
+    from pdsketch_mech.planner.budget import DEFAULT_BUDGET as budget
+    path = os.path.join(ROOT, "problems", "contract", "dev-slope-blocker-15.pddl")
+    user = os.path.join(ROOT, "problems", "contract", "user-mechanism", "shelf-pull.mech.pddl")
+    alone, both = _plan_with(path, [BASIS], False), _plan_with(path, [user], True)
+    assert alone.status == both.status == "solved"
+    assert both.stats["mechanisms"]["shelf-pull"]["skeletons"] >= 1   # it was tried
+    assert both.stats["work"] <= budget.head_start + alone.stats["work"] / budget.plain_share + budget.slice

@@ -65,3 +65,29 @@ def test_a_skeleton_gets_about_its_estimate_times_the_work_of_its_rank():
     boosted = shares({rank: 8.0 if rank == 18 else 1.0 for rank in range(1, 21)})
     assert plain[18] < plain[3] / 4                      # rank alone: 1/18 of the first's share
     assert boosted[18] > boosted[3] and boosted[18] > 4 * plain[18]
+
+
+def test_mechanisms_have_the_head_start_then_plain_skeletons_their_share():
+    """The contract's schedule (schedule.plain_owed): while both groups have work, the
+    mechanisms' skeletons take the first `head_start` units, and after that the plain ones
+    get `plain_share` of every unit, so a plain plan that needs W units comes within
+    head_start + W / plain_share in all, whatever the mechanisms' skeletons cost."""
+    budget = DEFAULT_BUDGET
+    work = plain = 0
+    first_plain_at = None
+    while plain < 300:
+        turn_plain = schedule.plain_owed(work, plain, budget.head_start, budget.plain_share)
+        if turn_plain and first_plain_at is None:
+            first_plain_at = work
+        work += SLICE
+        plain += SLICE if turn_plain else 0
+    assert first_plain_at is not None and budget.head_start <= first_plain_at <= budget.head_start + SLICE
+    assert work <= budget.head_start + 300 / budget.plain_share + 2 * SLICE
+    assert abs(plain / (work - budget.head_start) - budget.plain_share) < 0.02
+
+
+def test_plain_skeletons_are_owed_nothing_while_they_keep_their_share():
+    budget = DEFAULT_BUDGET
+    assert not schedule.plain_owed(budget.head_start, 0, budget.head_start, budget.plain_share)
+    assert schedule.plain_owed(budget.head_start + 10, 0, budget.head_start, budget.plain_share)
+    assert not schedule.plain_owed(budget.head_start + 1000, 1000, budget.head_start, budget.plain_share)

@@ -71,3 +71,15 @@ def test_skeletons_behind_a_dead_step_are_deferred_and_come_back_when_it_is_revi
     assert supply.returned == 1
     evidence.found(key)                                             # and finds it feasible after all
     assert evidence.cleared == 1 and supply.upcoming() and supply.returned >= 1
+
+
+def test_the_mechanisms_search_hands_out_only_skeletons_that_use_a_mechanism():
+    """With mechanisms loaded the basis operators' own search has the plain plans
+    (side_by_side.py); the other supply passes over them, even where the priced order puts
+    the tower's plain plan first."""
+    task = _tower(EVERY)
+    supply = SkeletonSupply(task, Evidence(task), time.perf_counter() + 60, mechanisms_only=True)
+    window = supply.upcoming()
+    assert window and all(any(task.operators[o].steps for o in s.plan) for s in window)
+    plain = _labels(_tower([]), skeleton_order(_tower([]), priced=True), 1)[0]
+    assert plain not in [s.label(task) for s in window]

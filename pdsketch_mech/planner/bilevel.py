@@ -15,7 +15,7 @@ import time
 import zlib
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Dict, List, Mapping, Optional
+from typing import TYPE_CHECKING, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -36,6 +36,7 @@ from .refine import Refinement
 from .run_stats import RunStats, initial_mismatch
 from .schedule import lowest, score
 from .serialize import plan_entries
+from .side_by_side import SideBySide
 from .skeleton import Skeleton, Step
 from .supply import SkeletonSupply
 
@@ -78,8 +79,14 @@ def bilevel_plan(domain: LoadedDomain, problem: Problem, world: World, timeout: 
     in another fresh world, as `replay` does, and reached the goal there. `learned`: the
     mechanisms' learned samplers, by mechanism name; `anchors`: what their demonstrations
     did (samplers/anchored.py). `vocabulary`: the one the domain names unless given."""
-    return BilevelSearch(domain, problem, world, timeout, seed, use_mechanisms, validate, learned, budget,
-                         vocabulary or vocabulary_of(domain.domain), anchors).run()
+    vocabulary = vocabulary or vocabulary_of(domain.domain)
+    if not (use_mechanisms and domain.domain.mechanisms):
+        return BilevelSearch(domain, problem, world, timeout, seed, False, validate, None, budget, vocabulary).run()
+    # The contract: the basis operators' own search, and beside it the mechanisms' (side_by_side.py).
+    plain = BilevelSearch(domain, problem, world, timeout, seed, False, validate, None, budget, vocabulary)
+    mechanisms = BilevelSearch(domain, problem, world, timeout, seed, True, validate, learned, budget, vocabulary,
+                               anchors, mechanisms_only=True, start=(plain.start, plain.initial, plain.warnings))
+    return SideBySide(plain, mechanisms, budget).run()
 
 
 class BilevelSearch:
@@ -87,8 +94,12 @@ class BilevelSearch:
 
     def __init__(self, domain: LoadedDomain, problem: Problem, world: World, timeout: float, seed: int,
                  use_mechanisms: bool, validate: bool, learned: Optional[Mapping[str, "LearnedMechanism"]],
-                 budget: SearchBudget, vocabulary: Vocabulary, anchors: Optional[Mapping[str, MechanismAnchors]] = None):
-        self.start = time.perf_counter()
+                 budget: SearchBudget, vocabulary: Vocabulary, anchors: Optional[Mapping[str, MechanismAnchors]] = None,
+                 mechanisms_only: bool = False, start: Optional[Tuple[float, object, List[str]]] = None):
+        """`mechanisms_only`: skeletons that use a mechanism, none of basis steps alone (the
+        search beside the basis operators' own: side_by_side.py). `start`: (clock start, the
+        world's settled snapshot, its warnings) when another search has settled the world."""
+        self.start = time.perf_counter() if start is None else start[0]
         self.deadline = self.start + timeout
         self.problem, self.world, self.seed, self.validate = problem, world, seed, validate
         self.budget, self.vocabulary = budget, vocabulary
@@ -99,32 +110,54 @@ class BilevelSearch:
                                    anchors=anchors if use_mechanisms else None)
         self.sampler.deadline = self.deadline
         self.stats = RunStats(self.task, counts, self.start)
-        warnings = settle_start(world)
-        self.initial = world.snapshot()
+        if start is None:
+            warnings = settle_start(world)
+            self.initial = world.snapshot()
+        else:
+            self.initial, warnings = start[1], list(start[2])
+            world.restore(self.initial)
+        self.warnings = list(warnings)
         mismatch = initial_mismatch(self.task, world, vocabulary)
         self.stats.warn(warnings + ([mismatch] if mismatch else []))
         self.evidence = Evidence(self.task, self.sampler.promise, self.start, budget, self.sampler.own_samplers())
-        self.supply = SkeletonSupply(self.task, self.evidence, self.deadline, budget, vocabulary)
+        self.supply = SkeletonSupply(self.task, self.evidence, self.deadline, budget, vocabulary,
+                                     mechanisms_only=mechanisms_only)
         self.probes = GroundingProbes(self.task, self.sampler, world, self.initial, seed)
         self.active: Dict[int, Refinement] = {}
         self.work = 0   # units done by every refinement together: the evidence's clock
+        self.solution: Optional[Tuple[Refinement, List[Dict[str, object]]]] = None
 
     def run(self) -> PlanResult:
         """Work on the lowest-scored skeleton until one is refined or the time is up."""
         sim_start = self.world.sim_steps
         try:
             while time.perf_counter() < self.deadline:
-                chosen = self._choose()
-                if chosen is None:
+                outcome = self.step()
+                if outcome is not False:
                     break
-                values = self._work_on(chosen)
-                if values is not None:
-                    return self._solved(chosen, values, self.world.sim_steps - sim_start)
         finally:
             self.world.restore(self.initial)
+        return self.result(self.world.sim_steps - sim_start)
+
+    def step(self) -> Optional[bool]:
+        """One slice of work on the skeleton the score puts first: True once a skeleton is
+        refined, None when there is nothing to work on, False otherwise."""
+        chosen = self._choose()
+        if chosen is None:
+            return None
+        values = self._work_on(chosen)
+        if values is None:
+            return False
+        self.solution = (chosen, values)
+        return True
+
+    def result(self, sim_steps: int) -> PlanResult:
+        """The search's outcome: the plan `step` refined, or why there is none."""
+        if self.solution is not None:
+            return self._solved(*self.solution, sim_steps)
         for refinement in self.active.values():
             self.stats.retire(refinement, self.evidence)
-        self.stats.final(self.supply, self.evidence, self.world.sim_steps - sim_start)
+        self.stats.final(self.supply, self.evidence, sim_steps)
         elapsed = time.perf_counter() - self.start
         if time.perf_counter() >= self.deadline:
             reason = f"timed out after {elapsed:.1f} s"

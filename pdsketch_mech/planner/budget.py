@@ -30,6 +30,9 @@ class SearchBudget:
     skeleton_visits: int = 50   # paths: the symbolic enumeration's first bound on expansions of a state
                                 # at one cost (doubles each time it runs out: symbolic/skeletons.py)
     skeleton_cost: int = 40     # basis steps: the enumeration's first bound on a plan's cost (doubles likewise)
+    plain_share: float = 2 / 3  # ratio: with mechanisms loaded, the share of the work beyond
+                                # `head_start` owed to the basis operators' own search
+    head_start: int = 20        # units: work the mechanisms' search has before the basis operators' own is owed its share
     samplers: SamplerBudget = field(default_factory=SamplerBudget)   # proposals, IK, motion checks, ranking
 
 

@@ -5,10 +5,10 @@ skeleton both find comes once, at the first place either gives it): the *unit* o
 which a mechanism is one action (the paper's: a composition of three mechanisms is a plan of
 three actions), and the *priced* order, in which a mechanism costs what its basis steps
 cost and, at equal cost, the steps written out come first (symbolic/skeletons.py). In the
-priced order a plain plan of basis steps comes where a search over the basis operators alone
-would put it, behind only the plans that cost less, so loading mechanisms never pushes it
-behind every combination of them: it keeps at least half of its share of the work. With no
-mechanism loaded the two orders are one. The next `window` skeletons are
+priced order a plan's place follows what it costs to do, not how many actions it names. With
+no mechanism loaded the two orders are one. With mechanisms loaded the planner runs this
+supply twice (side_by_side.py): one over the basis operators alone, one that hands out only
+the skeletons that use a mechanism. The next `window` skeletons are
 kept in view, so that the schedule can create a later one first when the evidence says it
 is more promising (schedule.py): one skeleton with detours does not hold back the ones
 behind it.
@@ -65,8 +65,12 @@ class SkeletonSupply:
     """New skeletons for one plan, until `deadline`."""
 
     def __init__(self, task: StripsTask, evidence: Evidence, deadline: float, budget: SearchBudget = DEFAULT_BUDGET,
-                 vocabulary: Vocabulary = BASIS):
+                 vocabulary: Vocabulary = BASIS, mechanisms_only: bool = False):
+        """`mechanisms_only`: hand out only skeletons that use a mechanism (the basis
+        operators' own search, beside this one, has the others: side_by_side.py)."""
         self.task, self.evidence, self.deadline, self.budget = task, evidence, deadline, budget
+        self.mechanisms_only = mechanisms_only
+        self.passed_plain = False   # the last ask passed over plain plans and found nothing else
         self.vocabulary = vocabulary
         # With mechanisms loaded the unit order goes first (a mechanism that does the job is
         # the first skeleton), the priced one second: a problem the basis operators solve meets
@@ -169,11 +173,15 @@ class SkeletonSupply:
         """The next skeleton from the searches that repeats no dead pristine step (None when
         they have no more, at the deadline, or after setting `lookahead` aside in a row: when
         every path left repeats a dead step, the search gives such paths without end)."""
+        skipped = self.passed_plain = False
         for _ in range(self.budget.lookahead):
             found = self._next_plan()
             if found is None:
                 return None
             plan, order = found
+            if self.mechanisms_only and not any(self.task.operators[i].steps for i in plan):
+                skipped = True   # basis steps alone: not this search's; the next call asks on
+                continue
             self.found += 1
             steps = skeleton_steps(self.task, plan, self.vocabulary)
             skeleton = Skeleton(order, plan, steps, pristine_keys(steps, self._fixed, self.evidence.own_samplers),
@@ -182,5 +190,7 @@ class SkeletonSupply:
             if not self.evidence.blocks(skeleton.pristine):
                 return skeleton
             self.defer(skeleton)
-        self._only_dead = (self.evidence.revivals, self.evidence.cleared)
+        self.passed_plain = skipped
+        if not skipped:
+            self._only_dead = (self.evidence.revivals, self.evidence.cleared)
         return None
