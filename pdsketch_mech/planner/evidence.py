@@ -143,6 +143,16 @@ class Evidence:
                 self.flagged |= 1 << self.bits[name]
         return True
 
+    def flagged_objects(self) -> List[str]:
+        """The objects some step found dead is about (what explains a detour through them)."""
+        return [name for name, bit in self.bits.items() if self.flagged >> bit & 1]
+
+    def flag(self, objects: Sequence[str]) -> None:
+        """Take `objects` as ones a dead step is about, as another search found them."""
+        for name in objects:
+            if name in self.bits:
+                self.flagged |= 1 << self.bits[name]
+
     def advance(self, work: int) -> bool:
         """The planner has done `work` units in all: steps whose revisit is due are believed
         alive again (their dry visits start over). True if one was."""

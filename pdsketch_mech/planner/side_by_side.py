@@ -48,6 +48,9 @@ class SideBySide:
                     waiting = [min(later, key=lambda s: ready[id(s)])]
                 for search in waiting:
                     outcome = search.step()
+                    # What the basis operators' search found dead explains the mechanisms'
+                    # detours too; nothing flows back, so it stays the search --basis-only runs.
+                    self.mechanisms.evidence.flag(self.plain.evidence.flagged_objects())
                     if outcome is None:
                         again = self.budget.revisit * work + self.budget.slice
                         ready[id(search)] = again if search.supply.passed_plain else float("inf")
