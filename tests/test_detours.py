@@ -81,6 +81,21 @@ def test_each_operator_in_an_unexplained_detour_halves_the_estimate(hook_slope):
         assert evidence.estimate(skeleton) == max(2.0 ** -evidence.detours(skeleton.plan), 1 / 32)
 
 
+def test_objects_another_search_found_dead_steps_about_explain_detours_here(hook_slope):
+    """With mechanisms loaded the mechanisms' search takes the objects the basis operators'
+    search found dead steps about (side_by_side.py): a push of the box then explains itself
+    in the other search too, as if it had found the dead grasp itself."""
+    task, masks, bits = hook_slope
+    plain, mechanisms = Evidence(task), Evidence(task)
+    for _ in range(DEFAULT_BUDGET.dead_after):
+        plain.ran_dry(("grasp", ("target", "table"), 0))
+    assert plain.flagged_objects() == ["target"]
+    push_box = _plan(task, "(transit-cont target table", "(grasp target table")
+    assert mechanisms.detours(push_box) == 1
+    mechanisms.flag(plain.flagged_objects() + ["no-such-object"])
+    assert mechanisms.detours(push_box) == 0 and mechanisms.flagged == plain.flagged
+
+
 def test_the_supply_defers_skeletons_that_repeat_a_dead_step_and_hands_them_out_last(hook_slope):
     task, _, _ = hook_slope
     supply, evidence = _supply(task)
