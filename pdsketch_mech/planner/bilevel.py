@@ -33,7 +33,7 @@ from .execute import execute_plan, settle_start
 from .macros import add_mechanism_macros
 from .probes import GroundingProbes
 from .refine import Refinement
-from .run_stats import RunStats, initial_mismatch
+from .run_stats import RunStats, initial_mismatch, unsolved_reason
 from .schedule import lowest, score
 from .serialize import plan_entries
 from .side_by_side import SideBySide
@@ -159,12 +159,7 @@ class BilevelSearch:
             self.stats.retire(refinement, self.evidence)
         self.stats.final(self.supply, self.evidence, sim_steps)
         elapsed = time.perf_counter() - self.start
-        if time.perf_counter() >= self.deadline:
-            reason = f"timed out after {elapsed:.1f} s"
-        elif self.stats.created == 0:
-            reason = "no plan exists: no sequence of operators reaches the goal symbolically"
-        else:
-            reason = f"no plan exists: none of the {self.stats.created} skeletons could be refined"
+        reason = unsolved_reason(time.perf_counter() >= self.deadline, elapsed, self.stats.created)
         return PlanResult("unsolved", time_s=elapsed, reason=reason,
                           stats=self.stats.document(self.sampler, self.evidence))
 

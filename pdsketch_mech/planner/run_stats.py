@@ -136,3 +136,12 @@ def initial_mismatch(task: StripsTask, world: World, vocabulary: Vocabulary = BA
     shown = ", ".join("(" + " ".join(f) + ")" + (" holds in the scene" if observed >> task.fact_ids[f] & 1
                                                   else " is not true in the scene") for f in facts[:4])
     return f"the scene and :init disagree: {shown}"
+
+
+def unsolved_reason(timed_out: bool, elapsed: float, created: int) -> str:
+    """Why a search ended without a plan, as `plan` prints it."""
+    if timed_out:
+        return f"timed out after {elapsed:.1f} s"
+    if created == 0:
+        return "no plan exists: no sequence of operators reaches the goal symbolically"
+    return f"no plan exists: none of the {created} skeletons could be refined"

@@ -16,6 +16,7 @@ import time
 from typing import Dict, List
 
 from .budget import SearchBudget
+from .run_stats import unsolved_reason
 from .schedule import plain_owed
 
 
@@ -36,7 +37,7 @@ class SideBySide:
         # way, in which case it asks on once the work has grown by `revisit`, or at once if
         # nothing else can.
         ready = {id(self.plain): 0.0, id(self.mechanisms): 0.0}
-        winner = None
+        winner, flagged = None, 0
         try:
             while winner is None and time.perf_counter() < deadline:
                 work = self.plain.work + self.mechanisms.work
@@ -50,7 +51,9 @@ class SideBySide:
                     outcome = search.step()
                     # What the basis operators' search found dead explains the mechanisms'
                     # detours too; nothing flows back, so it stays the search --basis-only runs.
-                    self.mechanisms.evidence.flag(self.plain.evidence.flagged_objects())
+                    if self.plain.evidence.flagged != flagged:
+                        flagged = self.plain.evidence.flagged
+                        self.mechanisms.evidence.flag(self.plain.evidence.flagged_objects())
                     if outcome is None:
                         again = self.budget.revisit * work + self.budget.slice
                         ready[id(search)] = again if search.supply.passed_plain else float("inf")
@@ -70,11 +73,8 @@ class SideBySide:
         result.stats.update(plain_work=self.plain.work, work=self.plain.work + self.mechanisms.work,
                             sim_steps=sim_steps)
         if winner is None:
-            result.reason = other.reason if other.reason.startswith("timed out") else result.reason
-            if not result.reason.startswith("timed out"):
-                created = result.stats.get("skeletons", 0)
-                result.reason = (f"no plan exists: none of the {created} skeletons could be refined" if created
-                                 else "no plan exists: no sequence of operators reaches the goal symbolically")
+            timed_out = any(r.reason.startswith("timed out") for r in (result, other))
+            result.reason = unsolved_reason(timed_out, result.time_s, result.stats.get("skeletons", 0))
         return result
 
     def _turns(self) -> List[object]:

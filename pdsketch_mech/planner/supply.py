@@ -73,8 +73,7 @@ class SkeletonSupply:
         self.passed_plain = False   # the last ask passed over plain plans and found nothing else
         self.vocabulary = vocabulary
         # With mechanisms loaded the unit order goes first (a mechanism that does the job is
-        # the first skeleton), the priced one second: a problem the basis operators solve meets
-        # the plain plan they would try first as the second. (Priced first cost Table 1 on dev
+        # the first skeleton), the priced one second. (Priced first cost Table 1 on dev
         # a third more values simulated: results/HISTORY.md.)
         self._searches: List[Optional[Iterator[List[int]]]] = [skeleton_order(task, deadline, evidence, budget,
                                                                              priced=True)]
@@ -173,14 +172,14 @@ class SkeletonSupply:
         """The next skeleton from the searches that repeats no dead pristine step (None when
         they have no more, at the deadline, or after setting `lookahead` aside in a row: when
         every path left repeats a dead step, the search gives such paths without end)."""
-        skipped = self.passed_plain = False
+        self.passed_plain = False
         for _ in range(self.budget.lookahead):
             found = self._next_plan()
             if found is None:
                 return None
             plan, order = found
             if self.mechanisms_only and not any(self.task.operators[i].steps for i in plan):
-                skipped = True   # basis steps alone: not this search's; the next call asks on
+                self.passed_plain = True   # basis steps alone: not this search's; the next call asks on
                 continue
             self.found += 1
             steps = skeleton_steps(self.task, plan, self.vocabulary)
@@ -190,7 +189,6 @@ class SkeletonSupply:
             if not self.evidence.blocks(skeleton.pristine):
                 return skeleton
             self.defer(skeleton)
-        self.passed_plain = skipped
-        if not skipped:
+        if not self.passed_plain:
             self._only_dead = (self.evidence.revivals, self.evidence.cleared)
         return None
