@@ -22,10 +22,12 @@ NAMES = sorted(n for n in os.listdir(TRICKS) if os.path.isdir(os.path.join(TRICK
 
 
 def _steps(fragment: str) -> list:
-    """The fragment's mechanism steps, as written in its :actions (one per line)."""
+    """The fragment's mechanism steps, as written in its :actions (one per line), with what
+    each says physics does after it (`:then`)."""
     text = open(fragment).read()
-    lines = text[text.index(":actions"):].splitlines()[1:]
-    return [line.strip()[:line.strip().index(")") + 1] for line in lines if line.strip().startswith("(")]
+    lines = [line.strip() for line in text[text.index(":actions"):].splitlines()[1:]]
+    return [line[:line.index(")") + 1] if line.startswith("(") else line.rstrip(")") for line in lines
+            if line.startswith(("(", ":then"))]
 
 
 @pytest.mark.parametrize("name", NAMES)

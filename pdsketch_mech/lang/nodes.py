@@ -202,11 +202,14 @@ class Stream:
 
 @dataclass(frozen=True, slots=True)
 class ActionCall:
-    """One step of a mechanism: a basis operator applied to the mechanism's variables."""
+    """One step of a mechanism: a basis operator applied to the mechanism's variables, and
+    what physics makes so after it beyond the operator's effect (`:then`, a conjunction of
+    facts and negated facts; TRUE when nothing)."""
 
     name: str
     args: Tuple[Term, ...] = ()
     loc: Optional[Loc] = _loc()
+    then: Formula = TRUE
 
 
 @dataclass(frozen=True, slots=True)

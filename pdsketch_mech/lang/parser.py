@@ -17,6 +17,7 @@ import math
 import os
 import re
 import sys
+from dataclasses import replace
 from typing import Callable, Iterator, List, Tuple, Union
 
 import lark
@@ -335,7 +336,19 @@ class _ToNodes(Transformer_NonRecursive):
 
     @v_args(meta=True)
     def steps(self, meta, children):
-        return "actions", tuple(children), self._loc(meta)
+        calls: list = []
+        for child in children:
+            if isinstance(child, ActionCall):
+                calls.append(child)
+            elif not calls or calls[-1].then != And(()):
+                raise PddlError(":then must follow a step (one :then per step)", child[1])
+            else:
+                calls[-1] = replace(calls[-1], then=child[0])
+        return "actions", tuple(calls), self._loc(meta)
+
+    @v_args(meta=True)
+    def then(self, meta, children):
+        return children[0], self._loc(meta)
 
     @v_args(meta=True)
     def call(self, meta, children):

@@ -319,3 +319,9 @@ def _check_step(step: ActionCall, actions: Mapping[str, Action], scope: Mapping[
         raise PddlError(f"mechanism step names unknown operator '{step.name}'"
                         f"{did_you_mean(step.name, actions)}", step.loc)
     _check_args(step.args, action.parameters, f"operator '{step.name}'", step.loc, scope, ctx)
+    _check_condition(step.then, scope, ctx)
+    for part in step.then.parts if isinstance(step.then, And) else (step.then,):
+        atom = part.body if isinstance(part, Not) else part
+        if not isinstance(atom, Atom):
+            raise PddlError(f"the :then of step '{step.name}' must be facts and negated facts joined by "
+                            "'and' (what physics makes so after the step)", getattr(atom, "loc", None) or step.loc)

@@ -159,7 +159,8 @@ def _stream(stream: Stream) -> str:
 def write_mechanism(mechanism: Mechanism) -> str:
     """One mechanism's definition as it appears in a domain file."""
     steps = "".join(
-        f"\n      ({_join(c.name, ' '.join(term(a) for a in c.args))})" for c in mechanism.actions)
+        f"\n      ({_join(c.name, ' '.join(term(a) for a in c.args))})"
+        + (f"\n        :then {formula(c.then)}" if c.then != And(()) else "") for c in mechanism.actions)
     props = [f":parameters ({typed_list(mechanism.parameters)})",
              *_formula_props((":precondition", mechanism.precondition), (":certified", mechanism.certified)),
              f":actions ({steps})", *_sampler_prop(mechanism.sampler)]

@@ -71,6 +71,11 @@ def differences(existing: Mechanism, new: Mechanism) -> List[str]:
     cert_a, cert_b = rename_terms(existing.certified, mapping), new.certified
     if {formula_text(f) for f in _conjuncts(cert_a)} != {formula_text(f) for f in _conjuncts(cert_b)}:
         out.append(f"the certified effect: {formula_text(cert_a)} vs {formula_text(cert_b)}")
+    for k, (ca, cb) in enumerate(zip(existing.actions, new.actions), 1):
+        then_a, then_b = rename_terms(ca.then, mapping), cb.then
+        if {formula_text(f) for f in _conjuncts(then_a)} != {formula_text(f) for f in _conjuncts(then_b)}:
+            said = [formula_text(f) if _conjuncts(f) else "nothing" for f in (then_a, then_b)]
+            out.append(f"what physics does after step {k} (:then): {said[0]} vs {said[1]}")
     if existing.sampler != new.sampler:
         out.append(f"the sampler: {existing.sampler or 'generic'} vs {new.sampler or 'generic'}")
     return out

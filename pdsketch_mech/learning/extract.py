@@ -113,6 +113,9 @@ def header_comment(extraction: Extraction, command: str) -> List[str]:
     seg = extraction.segmentation
     for k, st in enumerate(extraction.explanation.steps, 1):
         lines.append(f";   {k}. {st.text(names)} at {seg.time(st.frame):.2f} s")
+        if st.then[0] or st.then[1]:
+            lines.append(f";      then physics: {_facts_text(set(st.then[0]))}"
+                         + (f", no longer {_facts_text(set(st.then[1]))}" if st.then[1] else ""))
     lines.append("; Variables (role: why):")
     for o, var in extraction.lifted.roles.items():
         lines.append(f";   {var} = {names[o]}: {extraction.lifted.reasons[o]}")

@@ -195,7 +195,7 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
                 value_params.append(TypedName(v, p.type))
             else:
                 args.append(Var(variables[next(objects)]))
-        calls.append(ActionCall(st.operator, tuple(args)))
+        calls.append(ActionCall(st.operator, tuple(args), then=_then(st.then, by_name)))
 
     involved = set(variables)
     pre: List[Formula] = []
@@ -210,12 +210,33 @@ def lift(ex: Explanation, names: Sequence[str], goal: Formula, basis: Domain, na
     for i, a in enumerate(moved):
         for b in moved[i + 1:]:
             pre.append(Not(Equals(Var(variables[a]), Var(variables[b]))))
+    pre += _moved_between(ex, by_name)
     certified = rename_terms(goal, by_name, strict=True)
     mentioned = _variables(And(tuple(pre + [certified])))
     pre += _pinned([o for o in order if variables[o] not in mentioned or role[o] == "landing"], order, variables, fixed)
     parameters = tuple(TypedName(variables[o], OBJECT_TYPE) for o in order) + tuple(value_params)
     mechanism = Mechanism(name, parameters, And(tuple(pre)) if len(pre) != 1 else pre[0], certified, tuple(calls))
     return Lifted(mechanism, {o: variables[o] for o in order}, why)
+
+
+def _then(then: Tuple[Collection[Fact], Collection[Fact]], by_name: Dict[str, str]) -> Formula:
+    """A step's `then` (facts physics adds and deletes after it), lifted."""
+    added, deleted = (sorted(f for f in facts if all(a in by_name for a in f[1:])) for facts in then)
+    parts = [_atom(f, by_name) for f in added] + [Not(_atom(f, by_name)) for f in deleted]
+    return And(tuple(parts)) if len(parts) != 1 else parts[0]
+
+
+def _moved_between(ex: Explanation, by_name: Dict[str, str]) -> List[Formula]:
+    """`(not (= ?to ?from))` for each support physics moved an object between after a step
+    (its `then`): a fall from one surface onto the same one is no fall."""
+    out: List[Formula] = []
+    for st in ex.steps:
+        for to in sorted(st.then[0]):
+            for source in sorted(st.then[1]):
+                if to[0] == source[0] == "support" and to[1] == source[1] and to[2] in by_name and source[2] in by_name:
+                    inequality = Not(Equals(Var(by_name[to[2]]), Var(by_name[source[2]])))
+                    out += [inequality] if inequality not in out else []
+    return out
 
 
 def _pinned(free: Sequence[int], order: Sequence[int], variables: Dict[int, str],

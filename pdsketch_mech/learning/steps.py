@@ -17,7 +17,11 @@ When an object has several supports, the one the symbolic state already has is c
 (e.g. the tipped plate of Lever touches the table as well as its ledge: the ledge it was
 on is the one `grasp` takes it from); each step is then checked against the basis domain's
 own precondition and effect, so a demonstration the basis operators cannot explain is an
-error rather than a fragment that never applies.
+error rather than a fragment that never applies. One thing the basis operators leave to
+physics is explained by it: a step that needs an object to rest where the contacts show it,
+after an earlier step moved it there without saying so (a pull drops a box off a shelf onto
+the table, which is then grasped from the table). The earlier step's `then` says so, and the
+mechanism's step carries it as `:then` (language.md), which refinement checks.
 """
 from __future__ import annotations
 
@@ -46,6 +50,7 @@ class DemoStep:
     objects: Tuple[int, ...]
     segment: int          # the segment this step's contact change starts
     frame: int            # the frame where it happens
+    then: Tuple[FrozenSet[Fact], FrozenSet[Fact]] = (frozenset(), frozenset())  # physics after it: (add, delete)
 
     def text(self, names: Sequence[str]) -> str:
         return "(" + " ".join([self.operator, *(names[o] for o in self.objects)]) + ")"
@@ -111,6 +116,12 @@ class _Basis:
         text = _literal_text(lit.atom)
         return text if lit.positive else f"(not {text})"
 
+    def needs(self, name: str, objects: Sequence[str]) -> List[Fact]:
+        """The facts `name`'s precondition needs true (each disjunct's), ground."""
+        formula = substitute(self.actions[name].precondition, self._binding(name, objects))
+        return [(lit.atom.predicate, *(t.name for t in lit.atom.args)) for conj in dnf(formula, {})
+                for lit in conj if lit.positive and not isinstance(lit.atom, Equals)]
+
     def _holds(self, lit, facts: Set[Fact]) -> bool:
         atom = lit.atom
         if isinstance(atom, Equals):
@@ -136,8 +147,52 @@ def _literal_text(atom) -> str:
     return "(" + " ".join([atom.predicate, *(t.name for t in atom.args)]) + ")"
 
 
+# The steps that move an object (held objects aside) and where it is in their arguments.
+MOVES = {"move-cont": 1, "transit-cont": 0, "place": 0}
+
+
+class _Physics(Exception):
+    """A step's precondition is unmet because physics moved an object after an earlier step:
+    that step's `then` should say so (`explain` starts over with it)."""
+
+    def __init__(self, step: int, then: Tuple[FrozenSet[Fact], FrozenSet[Fact]]):
+        super().__init__(step)
+        self.step, self.then = step, then
+
+
 def explain(seg: Segmentation, basis: Domain) -> Explanation:
-    """The basis steps that explain the segmentation, checked against `basis`."""
+    """The basis steps that explain the segmentation, checked against `basis`. Where a step
+    needs an object to rest where physics put it after an earlier step (a pull drops it off
+    a shelf, a push tips it over a gap), that earlier step's `then` says so: the object rests
+    where the contacts show it, and no longer where it was."""
+    thens: Dict[int, Tuple[FrozenSet[Fact], FrozenSet[Fact]]] = {}
+    while True:   # each pass that fails adds a fact it had not: it ends
+        try:
+            return _explain(seg, basis, thens)
+        except _Physics as found:
+            previous = thens.get(found.step, (frozenset(), frozenset()))
+            thens[found.step] = (previous[0] | found.then[0], previous[1] | found.then[1])
+
+
+def _physics_then(seg: Segmentation, ops: "_Basis", steps: List[DemoStep], op: str, ground: Sequence[str],
+                  state: Set[Fact], frame: int) -> Optional[_Physics]:
+    """If `op`'s unmet precondition is an object resting where the contacts show it, moved
+    there by physics after the last step that moved it, that step and its `then`."""
+    names = list(seg.bodies.names)
+    needed = [f for f in ops.needs(op, ground) if f[0] == "support" and f not in state
+              and names.index(f[2]) in seg.supports_of(names.index(f[1]), max(0, frame - 1))]
+    for fact in needed:
+        obj = names.index(fact[1])
+        movers = [k for k, st in enumerate(steps) if st.operator in MOVES and st.objects[MOVES[st.operator]] == obj]
+        if not movers:
+            continue   # it moved with no step moving it: not explained
+        now = set(seg.supports_of(obj, max(0, frame - 1)))
+        left = frozenset(f for f in state if f[0] == "support" and f[1] == fact[1] and names.index(f[2]) not in now)
+        return _Physics(movers[-1], (frozenset([fact]), left))
+    return None
+
+
+def _explain(seg: Segmentation, basis: Domain, thens: Dict[int, Tuple[FrozenSet[Fact], FrozenSet[Fact]]]) -> Explanation:
     names = seg.bodies.names
     ops = _Basis(basis)
     segments = seg.segments
@@ -154,12 +209,17 @@ def explain(seg: Segmentation, basis: Domain) -> Explanation:
         ground = [names[o] for o in objects]
         problem = ops.unmet(op, ground, state)
         if problem is not None:
+            physics = _physics_then(seg, ops, steps, op, ground, state, frame)
+            if physics is not None and physics.then[0] - thens.get(physics.step, (frozenset(),))[0]:
+                raise physics
             raise ExtractionError(
                 f"at t = {seg.time(frame):.2f} s the demonstration does ({op} {' '.join(ground)}), but its "
                 f"precondition {problem} does not hold after the steps before it: the basis operators cannot "
                 "explain this demonstration")
         state = ops.apply(op, ground, state)
-        steps.append(DemoStep(op, objects, index, frame))
+        then = thens.get(len(steps), (frozenset(), frozenset()))
+        state = (state - then[1]) | then[0]
+        steps.append(DemoStep(op, objects, index, frame, then))
 
     def support(obj: int, frame: int, window: Tuple[int, int]) -> int:
         """obj's support at `frame`: the one the symbolic state has, else the strongest."""

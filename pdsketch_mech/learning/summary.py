@@ -58,6 +58,8 @@ def mechanism_summary(mechanism: Mechanism, demo_objects: Dict[str, str],
     grounded = needs + _step_needs(mechanism, actions)   # what a grounding must satisfy
     lines = [f"{mechanism.name} needs: " + "; ".join(_words(p, f, demo_objects) for p, f in needs),
              f"{mechanism.name} certifies: " + "; ".join(_words(p, f, {}) for p, f in certifies)]
+    lines += [f"after step {k} ({call.name}), physics: " + "; ".join(_words(p, f, {}) for p, f in _literals(call.then))
+              for k, call in enumerate(mechanism.actions, 1) if _literals(call.then)]
     objects = [p.name for p in mechanism.parameters if p.name in demo_objects]
     fixed = _fixed_literals(grounded, True)
     movable = _fixed_literals(grounded, False) - fixed

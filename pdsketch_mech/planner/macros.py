@@ -3,8 +3,9 @@
 A mechanism grounded on objects binds each of its steps to a ground basis operator (its
 continuous variables to the placeholders those operators use, consistently across steps);
 the macro's precondition is the mechanism's precondition plus what the steps need that
-earlier steps do not provide, and its effect is the steps' composed effect plus the facts it
-certifies (which refinement checks in simulation). The symbolic
+earlier steps do not provide, and its effect is the steps' composed effect (with what each
+step's `:then` says physics makes so after it) plus the facts it certifies (refinement checks
+both in simulation). The symbolic
 search can then use a whole mechanism as one action; refinement expands it again.
 """
 from __future__ import annotations
@@ -90,8 +91,11 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
     if not alternatives:
         return None
     pre, neg = alternatives[0]  # its first satisfiable disjunct
+    then = step_then(mechanism, binding, task, objects)
+    if then is None:
+        return None
     added = deleted = 0
-    for op_id in step_ids:
+    for op_id, (then_add, then_delete) in zip(step_ids, then):
         op = task.operators[op_id]
         if op.pre & deleted or op.neg & added:
             return None  # a step needs what an earlier step undid
@@ -99,6 +103,7 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
         neg |= op.neg & ~deleted
         added = (added & ~op.delete) | op.add
         deleted = (deleted & ~op.add) | op.delete
+        added, deleted = (added & ~then_delete) | then_add, (deleted & ~then_add) | then_delete
     if pre & neg:
         return None
     certified = tuple(formula_masks(mechanism.certified, binding, task, objects))
@@ -110,7 +115,20 @@ def _compose(mechanism: Mechanism, binding, values, step_ids: Sequence[int], tas
     # trained per variable, and self-play labels its data by them.
     roles = tuple(sorted((value, var) for var, value in env.items() if is_placeholder(value)))
     return Operator(mechanism.name, tuple(values), pre, neg, added, deleted, steps=tuple(step_ids),
-                    certified=certified, roles=roles, settles=settles)
+                    certified=certified, roles=roles, settles=settles,
+                    then=then if any(a or d for a, d in then) else ())
+
+
+def step_then(mechanism: Mechanism, binding, task: StripsTask, objects) -> Optional[Tuple[Tuple[int, int], ...]]:
+    """Each step's `:then` as (add, delete) masks: what physics makes so after it (a pull
+    whose target falls off a shelf onto the table). None if one can never hold here."""
+    out = []
+    for call in mechanism.actions:
+        masks = formula_masks(call.then, binding, task, objects)
+        if not masks:
+            return None
+        out.append(masks[0])
+    return tuple(out)
 
 
 def certified_effect(promise: Tuple[int, int], known: int, supports: Dict[int, int]) -> Tuple[int, int]:

@@ -203,6 +203,8 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int], vocabulary: Vocabulary
             state = task.successor(state, basis)
             last = k == len(expansion) - 1
             macro = basis_id != op_id
+            if macro and op.then:   # what the step's `:then` says physics makes so
+                state = (state & ~op.then[k][1]) | op.then[k][0]
             if last and macro:   # where its certified facts say the mechanism leaves things
                 state = (state & ~op.settles[1]) | op.settles[0]
             steps.append(Step(basis.name, basis.args, state, op.name if macro else None,

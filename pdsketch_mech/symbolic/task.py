@@ -40,6 +40,7 @@ class Operator:
     certified: Tuple[Tuple[int, int], ...] = ()  # a mechanism's promise: alternatives of (true, false) masks
     roles: Tuple[Tuple[str, str], ...] = ()  # a mechanism: (placeholder, the variable it stands for)
     settles: Tuple[int, int] = (0, 0)  # a mechanism: (add, delete) its certified facts impose after its steps
+    then: Tuple[Tuple[int, int], ...] = ()  # a mechanism: (add, delete) physics makes so after each step, if any
 
     @property
     def label(self) -> str:
