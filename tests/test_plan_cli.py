@@ -155,6 +155,14 @@ def test_a_dead_step_counts_only_the_proposals_where_its_objects_start():
     assert failure_hint({}, mechanisms=True) is None
 
 
+def test_the_commonest_failure_is_named_even_when_dead_steps_fill_the_hint():
+    contacts = "simulated contacts differ from the skeleton"
+    failures = {("grasp target slope", "no feasible parameters"): 3, ("transit-cont target slope", "no feasible parameters"): 2,
+                ("grasp chock slope", contacts): 244}
+    failed = failed_steps(failures, {}, dead=["grasp target slope", "transit-cont target slope"])
+    assert failure_hint(failed, mechanisms=True).endswith(f"most failures: grasp chock slope ({contacts}, 244 times)")
+
+
 def test_the_hint_says_when_a_mechanism_whose_promise_keeps_failing_got_in_the_way():
     why = "its :certified facts do not hold after its steps"
     failures = {("shelf-pull stick block table", why): 48, ("grasp block table", "no feasible parameters"): 9}

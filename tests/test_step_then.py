@@ -83,9 +83,14 @@ def test_the_planner_takes_a_then_as_the_steps_effect_and_expects_it_after_that_
     macro = task.operators[macros[0]]
     assert not macro.pre & (1 << task.fact_ids[("support", "block", "table")]), \
         "the grasp from the table needs nothing of the start: the pull's :then provides it"
-    states = [{task.facts[i] for i in bits(step.expected)} for step in skeleton_steps(task, [macros[0]])]
+    steps = skeleton_steps(task, [macros[0]])
+    states = [{task.facts[i] for i in bits(step.expected)} for step in steps]
     assert ("support", "block", "table") not in states[0]
     assert ("support", "block", "table") in states[1] and ("support", "block", "shelf") not in states[1]
+    # Before the pull, the block may already be on the table (it fell early), but must not have
+    # left the shelf: the pull needs it there.
+    early_added, early_deleted = ({task.facts[i] for i in bits(mask)} for mask in steps[0].early)
+    assert ("support", "block", "table") in early_added and ("support", "block", "shelf") not in early_deleted
 
 
 def test_a_demonstration_that_goes_on_after_a_fall_extracts_whole(tmp_path, capsys):
@@ -118,3 +123,40 @@ def test_re_extraction_tells_a_fragment_whose_then_differs():
     assert differences(mechanism, without) == [
         "what physics does after step 2 (:then): (and (support ?target ?support) "
         "(not (support ?target ?target-support))) vs nothing"]
+
+
+UNCHOCK = os.path.join(ROOT, "tests", "data", "unchock")   # a helper's trick, written from docs/
+
+
+def _extract(tmp_path, demo: str):
+    for name in ("unchock.pddl", f"{demo}.demo.json"):
+        shutil.copy(os.path.join(UNCHOCK, name), tmp_path / name)
+    assert demo_cli.main(["record", str(tmp_path / f"{demo}.demo.json")]) == 0
+    fragment = tmp_path / f"{demo}.mech.pddl"
+    assert learn_cli.main(["extract", str(tmp_path / demo), "--out", str(fragment)]) == 0
+    return fragment, load_domain([str(fragment)]).domain.mechanisms[0]
+
+
+def test_lifting_a_chock_away_is_no_push_and_the_slide_it_lets_happen_is_the_grasps_then(tmp_path):
+    """The cube leaning on the chock touches it while the chock is lifted, moving the other way:
+    no push. The cube slides down during the grasp's lift, so the grasp's :then says it."""
+    _, mechanism = _extract(tmp_path, "unchock")
+    assert [c.name for c in mechanism.actions] == ["grasp", "place", "grasp", "place"]
+    assert mechanism.actions[0].then != TRUE and all(c.then == TRUE for c in mechanism.actions[1:])
+
+
+def test_an_object_physics_moved_that_no_step_touched_is_explained_by_the_step_in_progress(tmp_path):
+    """The hand shoves the chock aside and never touches the cube, which slides down: the
+    shove's :then says where the cube went."""
+    _, mechanism = _extract(tmp_path, "unchock-push")
+    assert [c.name for c in mechanism.actions] == ["transit-cont", "grasp", "place"]
+    assert mechanism.actions[0].then != TRUE
+
+
+@pytest.mark.slow
+def test_the_unchock_mechanism_plans_on_a_steeper_slope_and_replays(tmp_path):
+    fragment, _ = _extract(tmp_path, "unchock")
+    out = tmp_path / "plan.json"
+    status = plan_cli.main([str(fragment), os.path.join(UNCHOCK, "unchock-steep.pddl"), "--timeout", "120",
+                            "--json", str(out), "--validate"])
+    assert status == 0 and {s["mechanism"] for s in json.load(open(out))["plan"]} == {"unchock"}

@@ -100,5 +100,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except PddlError as error:
         print_error(error)
         return EXIT_BAD_INPUT
+    if args.render:
+        print(f"wrote {args.render}", file=sys.stderr)
     print(f"replay: {len(steps)} steps; {result.message}", file=sys.stderr)
     return EXIT_OK if result.goal_reached else EXIT_UNSOLVED

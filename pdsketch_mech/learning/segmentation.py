@@ -10,7 +10,8 @@ mode per frame is then
 and a segment is a maximal run of one mode. Two more filters keep the segments physical:
 - a push must move what it pushes (PUSH_MIN_MOVE or PUSH_MIN_TURN over the run): a finger
   brushing an object on its way to a grasp, or the held tool grazing something, is contact
-  without a push and does not make a segment;
+  without a push and does not make a segment; a held object that moves must carry what it
+  touches along its own way (`_carried`), or what moved was moved by physics;
 - a held object resting on something (the normal says "support") is being put down, not
   pushing: that contact belongs to the place that follows.
 Segments still shorter than MIN_DURATION_S after this are merged into the previous one.
@@ -159,6 +160,20 @@ def _moved(poses: np.ndarray, obj_column: int, start: int, end: int) -> bool:
     return bool(shift >= PUSH_MIN_MOVE or turn >= PUSH_MIN_TURN)
 
 
+def _carried(poses: np.ndarray, obj_column: int, held_column: int, start: int, end: int) -> bool:
+    """Whether a held object moving by PUSH_MIN_MOVE carried the object it touches along: the
+    object moved at least PUSH_MIN_MOVE the way the held one did, or turned PUSH_MIN_TURN while
+    moving that way. A chock lifted away from a block leaning on it, which then slides the
+    other way down a slope, pushes nothing (the block's fall is physics, said by a `:then`)."""
+    held = poses[end, held_column, :3] - poses[start, held_column, :3]
+    if np.linalg.norm(held) < PUSH_MIN_MOVE:
+        return True   # a tool turned or held still: its own motion says nothing
+    along = float(np.dot(poses[end, obj_column, :3] - poses[start, obj_column, :3], held / np.linalg.norm(held)))
+    track = poses[start:end + 1, obj_column, 3:]
+    turn = float((2 * np.arccos(np.clip(np.abs(track @ track[0]), 0.0, 1.0))).max())
+    return along >= PUSH_MIN_MOVE or (along > 0 and turn >= PUSH_MIN_TURN)
+
+
 def segment(recording: Recording) -> Segmentation:
     """Debounce the recording's contact graphs and cut it where the robot's mode changes."""
     if recording.frames < 2:
@@ -172,7 +187,8 @@ def segment(recording: Recording) -> Segmentation:
     for start, end, mode in _runs(modes):
         if mode.pushed:
             # poses columns follow the header's `objects`, which are bodies 1..n in order
-            kept = frozenset(o for o in mode.pushed if _moved(poses, o - 1, start, end))
+            kept = frozenset(o for o in mode.pushed if _moved(poses, o - 1, start, end)
+                             and (mode.held is None or _carried(poses, o - 1, mode.held - 1, start, end)))
             if kept != mode.pushed:
                 for f in range(start, end + 1):
                     modes[f] = Mode(mode.held, kept)

@@ -147,10 +147,6 @@ def _literal_text(atom) -> str:
     return "(" + " ".join([atom.predicate, *(t.name for t in atom.args)]) + ")"
 
 
-# The steps that move an object (held objects aside) and where it is in their arguments.
-MOVES = {"move-cont": 1, "transit-cont": 0, "place": 0}
-
-
 class _Physics(Exception):
     """A step's precondition is unmet because physics moved an object after an earlier step:
     that step's `then` should say so (`explain` starts over with it)."""
@@ -162,9 +158,9 @@ class _Physics(Exception):
 
 def explain(seg: Segmentation, basis: Domain) -> Explanation:
     """The basis steps that explain the segmentation, checked against `basis`. Where a step
-    needs an object to rest where physics put it after an earlier step (a pull drops it off
-    a shelf, a push tips it over a gap), that earlier step's `then` says so: the object rests
-    where the contacts show it, and no longer where it was."""
+    needs an object to rest where physics put it (a pull drops it off a shelf, a chock lifted
+    away lets it slide down a slope), the step in progress when it left where it was says so
+    in its `then`: the object rests where the contacts show it, and no longer where it was."""
     thens: Dict[int, Tuple[FrozenSet[Fact], FrozenSet[Fact]]] = {}
     while True:   # each pass that fails adds a fact it had not: it ends
         try:
@@ -177,18 +173,23 @@ def explain(seg: Segmentation, basis: Domain) -> Explanation:
 def _physics_then(seg: Segmentation, ops: "_Basis", steps: List[DemoStep], op: str, ground: Sequence[str],
                   state: Set[Fact], frame: int) -> Optional[_Physics]:
     """If `op`'s unmet precondition is an object resting where the contacts show it, moved
-    there by physics after the last step that moved it, that step and its `then`."""
+    there by physics (it fell, tipped or slid) after an earlier step began: the step in
+    progress when it left where it was, and that step's `then`."""
     names = list(seg.bodies.names)
+    before = max(0, frame - 1)
     needed = [f for f in ops.needs(op, ground) if f[0] == "support" and f not in state
-              and names.index(f[2]) in seg.supports_of(names.index(f[1]), max(0, frame - 1))]
+              and names.index(f[2]) in seg.supports_of(names.index(f[1]), before)]
     for fact in needed:
-        obj = names.index(fact[1])
-        movers = [k for k, st in enumerate(steps) if st.operator in MOVES and st.objects[MOVES[st.operator]] == obj]
-        if not movers:
-            continue   # it moved with no step moving it: not explained
-        now = set(seg.supports_of(obj, max(0, frame - 1)))
+        obj, now = names.index(fact[1]), set(seg.supports_of(names.index(fact[1]), before))
         left = frozenset(f for f in state if f[0] == "support" and f[1] == fact[1] and names.index(f[2]) not in now)
-        return _Physics(movers[-1], (frozenset([fact]), left))
+        old = {names.index(f[2]) for f in left}
+        # When it left: the frame after it last rested on a support it had; with none gone,
+        # when it came to rest where it is now for good.
+        moved = next((f + 1 for f in range(before, -1, -1) if old & set(seg.supports_of(obj, f))), None) if old else \
+            next((f + 1 for f in range(before, -1, -1) if names.index(fact[2]) not in seg.supports_of(obj, f)), None)
+        during = [k for k, st in enumerate(steps) if moved is not None and st.frame <= moved]
+        if during:
+            return _Physics(during[-1], (frozenset([fact]), left))
     return None
 
 

@@ -135,7 +135,10 @@ def initial_mismatch(task: StripsTask, world: World, vocabulary: Vocabulary = BA
     facts = [task.facts[i] for i in range(len(task.facts)) if diff >> i & 1]
     shown = ", ".join("(" + " ".join(f) + ")" + (" holds in the scene" if observed >> task.fact_ids[f] & 1
                                                   else " is not true in the scene") for f in facts[:4])
-    return f"the scene and :init disagree: {shown}"
+    fixed = [f for f in facts[:4] if len(f) == 3 and all(("fixed", x) in task.static_facts for x in f[1:])]
+    why = (f" (what one fixed object stands on is never read, {' '.join('(' + ' '.join(f) + ')' for f in fixed)} "
+           "included: leave such facts out of :init)") if fixed else ""
+    return f"the scene and :init disagree: {shown}{why}"
 
 
 def unsolved_reason(timed_out: bool, elapsed: float, created: int) -> str:

@@ -212,20 +212,25 @@ def skeleton_steps(task: StripsTask, plan: Sequence[int], vocabulary: Vocabulary
                               tuple(a for a in op.args if not is_placeholder(a)) if macro else (),
                               op.roles if macro else (),
                               tolerated_supports(task, supports, basis, basis_ids[len(steps) + 1:], vocabulary),
-                              _early(task, op, expansion[k + 1:]) if macro and not last else (0, 0)))
+                              _early(task, op, k) if macro and not last else (0, 0)))
     return steps
 
 
-def _early(task: StripsTask, mechanism: Operator, later: Sequence[int]) -> Tuple[int, int]:
-    """What a mechanism's certified facts add and delete that may be so before its last step:
-    its effect may come about early (an object pulled off a ledge falls before the tool is put
-    back), except what its later steps need otherwise."""
-    needed_true = needed_false = 0
-    for op_id in later:
-        needed_true |= task.operators[op_id].pre
-        needed_false |= task.operators[op_id].neg
-    added, deleted = mechanism.settles
-    return added & ~needed_false, deleted & ~needed_true
+def _early(task: StripsTask, mechanism: Operator, k: int) -> Tuple[int, int]:
+    """What may already be so after step `k` of a mechanism, before the step that says it:
+    its certified facts (an object pulled off a ledge falls before the tool is put back) and
+    later steps' `:then` (a block slides down as soon as the chock holding it is lifted, in
+    the grasp's own lift), except what the steps between need otherwise."""
+    added = deleted = needed_true = needed_false = 0
+    for j in range(k + 1, len(mechanism.steps)):
+        step = task.operators[mechanism.steps[j]]
+        needed_true |= step.pre
+        needed_false |= step.neg
+        if mechanism.then:
+            added |= mechanism.then[j][0] & ~needed_false
+            deleted |= mechanism.then[j][1] & ~needed_true
+    certified_added, certified_deleted = mechanism.settles
+    return added | certified_added & ~needed_false, deleted | certified_deleted & ~needed_true
 
 
 @dataclass
