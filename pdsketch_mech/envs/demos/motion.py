@@ -128,14 +128,16 @@ class Driver:
                     why.note(0, self._unreachable(target, orn))
                     continue
                 q_pre = kin.ik(np.asarray(target) - back * axis, orn, self.rng, seed=q, restarts=1, **IK_TOLERANCE)
-                if q_pre is None:
-                    why.note(1, f"the arm cannot get {back:.2f} m before it to come in straight")
-                    continue
                 with world.saved():
                     hit = checker.hits(q) if checker.collides(q) else None
-                    hit_pre = None if hit is not None or not checker.collides(q_pre) else checker.hits(q_pre)
+                    hit_pre = None if hit is not None or q_pre is None or not checker.collides(q_pre) \
+                        else checker.hits(q_pre)
+                # A collision at the pose itself first: no approach distance (`back`) mends it.
                 if hit is not None:
                     why.note(2, f"there, {self._hitter()} would hit: {hit}")
+                    continue
+                if q_pre is None:
+                    why.note(1, f"the arm cannot get {back:.2f} m before it to come in straight")
                     continue
                 if hit_pre is not None:
                     why.note(2, f"{back:.2f} m before it, {self._hitter()} would hit: {hit_pre}")
