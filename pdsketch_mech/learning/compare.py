@@ -17,6 +17,11 @@ def _conjuncts(f: Formula) -> List[Formula]:
     return list(f.parts) if isinstance(f, And) else [f]
 
 
+def _same(a: Formula, b: Formula) -> bool:
+    """Whether two conjunctions say the same, in any order."""
+    return {formula_text(f) for f in _conjuncts(a)} == {formula_text(f) for f in _conjuncts(b)}
+
+
 def correspondence(a: Mechanism, b: Mechanism) -> Optional[Dict[str, str]]:
     """A renaming of a's variables into b's that the steps agree on, or None."""
     if [c.name for c in a.actions] != [c.name for c in b.actions]:
@@ -69,11 +74,11 @@ def differences(existing: Mechanism, new: Mechanism) -> List[str]:
     if pre_b - pre_a:
         out.append(f"the precondition: only the extracted one has {' '.join(sorted(pre_b - pre_a))}")
     cert_a, cert_b = rename_terms(existing.certified, mapping), new.certified
-    if {formula_text(f) for f in _conjuncts(cert_a)} != {formula_text(f) for f in _conjuncts(cert_b)}:
+    if not _same(cert_a, cert_b):
         out.append(f"the certified effect: {formula_text(cert_a)} vs {formula_text(cert_b)}")
     for k, (ca, cb) in enumerate(zip(existing.actions, new.actions), 1):
         then_a, then_b = rename_terms(ca.then, mapping), cb.then
-        if {formula_text(f) for f in _conjuncts(then_a)} != {formula_text(f) for f in _conjuncts(then_b)}:
+        if not _same(then_a, then_b):
             said = [formula_text(f) if _conjuncts(f) else "nothing" for f in (then_a, then_b)]
             out.append(f"what physics does after step {k} (:then): {said[0]} vs {said[1]}")
     if existing.sampler != new.sampler:

@@ -185,12 +185,19 @@ def _physics_then(seg: Segmentation, ops: "_Basis", steps: List[DemoStep], op: s
         old = {names.index(f[2]) for f in left}
         # When it left: the frame after it last rested on a support it had; with none gone,
         # when it came to rest where it is now for good.
-        moved = next((f + 1 for f in range(before, -1, -1) if old & set(seg.supports_of(obj, f))), None) if old else \
-            next((f + 1 for f in range(before, -1, -1) if names.index(fact[2]) not in seg.supports_of(obj, f)), None)
+        if old:
+            moved = _after_last(seg, obj, before, lambda supports: bool(old & supports))
+        else:
+            moved = _after_last(seg, obj, before, lambda supports: names.index(fact[2]) not in supports)
         during = [k for k, st in enumerate(steps) if moved is not None and st.frame <= moved]
         if during:
             return _Physics(during[-1], (frozenset([fact]), left))
     return None
+
+
+def _after_last(seg: Segmentation, obj: int, frame: int, test) -> Optional[int]:
+    """The frame after the last one up to `frame` where `test(obj's supports)` holds, or None."""
+    return next((f + 1 for f in range(frame, -1, -1) if test(set(seg.supports_of(obj, f)))), None)
 
 
 def _explain(seg: Segmentation, basis: Domain, thens: Dict[int, Tuple[FrozenSet[Fact], FrozenSet[Fact]]]) -> Explanation:

@@ -47,9 +47,9 @@ def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool,
     """The hint an unsolved run prints: first a mechanism that got in the way (its certified
     facts failed more often than any step failed otherwise, in skeletons it crowded: what to
     try instead), then the steps never feasible where their objects start, then the steps
-    that failed most and how (SHOWN steps in all, and the commonest failure always), and, when the domain was planned without
-    mechanisms, that one may help (those loaded but `set_aside` by --basis-only, or any);
-    None when there is nothing to say."""
+    that failed most and how (SHOWN steps in all, and the commonest failure always), and,
+    when the domain was planned without mechanisms, that one may help (those loaded but
+    `set_aside` by --basis-only, or any); None when there is nothing to say."""
     parts: List[str] = []
     blocker = _mechanism_in_the_way(failed, by_mechanism or {})
     if blocker:
@@ -61,8 +61,9 @@ def failure_hint(failed: Mapping[str, Mapping[str, object]], mechanisms: bool,
         parts.append("never feasible where its objects start: " + ", ".join(dead))
     # The commonest failure always: steps never feasible where the scene began may be beside
     # the point (a mechanism's step refused 200 times, where its objects had moved).
-    if most[:max(1, SHOWN - len(dead))]:
-        parts.append("most failures: " + ", then ".join(most[:max(1, SHOWN - len(dead))]))
+    shown = most[:max(1, SHOWN - len(dead))]
+    if shown:
+        parts.append("most failures: " + ", then ".join(shown))
     if not mechanisms:
         them = "it" if len(set_aside) == 1 else "them"
         parts.append(f"planned without {', '.join(set_aside)} (--basis-only): with {them}, it may solve" if set_aside
