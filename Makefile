@@ -34,7 +34,10 @@ setup: $(STAMP)
 # An editable install in setuptools' compat mode puts the checkout on sys.path with a plain
 # .pth line: the default mode's import hook runs at every interpreter start-up, before any
 # Ctrl-C handler can be installed, and costs every command start-up time.
+# pybullet and ompl publish wheels for CPython 3.10 and 3.11 only; on another version pip would
+# try a long source build that fails, so say so in one line instead (setup.cfg's python_requires).
 $(STAMP): setup.cfg setup.py pyproject.toml constraints.txt Makefile
+	@$(PYTHON) -c 'import sys; v = sys.version_info[:2]; sys.exit(0 if (3, 10) <= v <= (3, 11) else "make: error: pdsketch_mech needs Python 3.10 or 3.11 (pybullet and ompl have no wheels for %d.%d); run: make setup PYTHON=python3.11" % v)'
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[test]' --config-settings editable_mode=compat
 	touch $@

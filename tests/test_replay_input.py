@@ -12,7 +12,7 @@ import sys
 import pytest
 
 from pdsketch_mech.commands import replay
-from pdsketch_mech.planner.plan_document import locate
+from pdsketch_mech.planner.plan_document import EXECUTION_MODEL, locate
 
 from conftest import ROOT
 
@@ -196,3 +196,18 @@ def test_replay_render_takes_the_camera_options(tmp_path, capsys):
         replay.main([PICK, str(path), "--render", str(gif), "--distance", "0"])
     assert exited.value.code == 2
     assert capsys.readouterr().err == "error: argument --distance: must be a finite number from 0.05 to 100, got '0'\n"
+
+
+@pytest.mark.parametrize("model, noted", [(None, True), (1, True), (EXECUTION_MODEL, False)])
+def test_a_failed_replay_of_a_plan_found_with_another_execution_model_says_so(tmp_path, capsys, model, noted):
+    """A push amplifies any change in how motions are simulated: a plan of another model may
+    fail here, and the failure then says why and what to do."""
+    document = edited(lambda d: d.update(execution_model=model) if model is not None else None)
+    step(document)["params"]["#grasp2"]["in_object"][0] = [0.0, 0.015, 0.3]     # the hand far off the block
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps(document))
+    assert replay.main([PICK, str(path)]) == 1
+    err = capsys.readouterr().err
+    assert ("plan again to replay it here" in err) == noted, err
+    if noted:
+        assert f"model {model or 1}, and this version simulates motions with model {EXECUTION_MODEL}" in err

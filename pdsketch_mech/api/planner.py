@@ -2,6 +2,7 @@
 problems in the same process. Each `plan` returns the document `plan --json` writes."""
 from __future__ import annotations
 
+import json
 import sys
 import time
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
@@ -9,8 +10,9 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 from ..lang.errors import PddlError, PddlWarning
 from ..lang.loader import LoadedDomain, load_domain, load_problem
 from ..lang.nodes import Problem
+from ..lang.source import read_text
 from ..learning.paths import resolve_domain, resolve_mechanisms, resolve_problem
-from ..planner.plan_document import check_plan, load_plan, plan_document
+from ..planner.plan_document import check_plan, load_plan, plan_document, stale_model_note
 from ..symbolic.ground_size import DEFAULT_MAX_GROUND, check_ground_size
 
 PlanDocument = Dict[str, Any]
@@ -73,7 +75,10 @@ class Planner:
         loaded, parsed = self.load(problem)
         steps = load_plan(plan, loaded, parsed) if isinstance(plan, str) else check_plan(plan, loaded, parsed)
         replayed = replay_entries(loaded, parsed, steps, render)
-        return {"goal_reached": replayed.goal_reached, "message": replayed.message}
+        message, note = replayed.message, None
+        if not replayed.goal_reached:
+            note = stale_model_note(json.loads(read_text(plan)) if isinstance(plan, str) else plan)
+        return {"goal_reached": replayed.goal_reached, "message": f"{message} ({note})" if note else message}
 
     def _anchors(self, loaded: LoadedDomain) -> Mapping[str, object]:
         if self._anchored is None:   # read once, like the checkpoints

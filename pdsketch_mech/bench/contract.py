@@ -145,8 +145,6 @@ class ContractJob:
 class ContractTrial(Trial):
     """A trial (task: the problem; method: the config) and what it simulated."""
 
-    executions: int = 0                                        # steps simulated (stats.executions)
-    sim_steps: int = 0                                         # physics steps
     drawn: Dict[str, int] = field(default_factory=dict)        # stats.samples: values drawn per sampler
     failures: Dict[str, int] = field(default_factory=dict)     # stats.failures: why steps failed (the commonest 8)
     failed_steps: Dict[str, Any] = field(default_factory=dict)  # stats.failed_steps
@@ -178,7 +176,7 @@ def run_contract_job(job: ContractJob, keep: Optional[str] = None) -> ContractTr
             {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
             {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason,
             (stats.get("score_ms") or {}).get("median"), checkout_commit(), stats.get("planning_s"),
-            executions=int(stats.get("executions", 0)), sim_steps=int(stats.get("sim_steps", 0)),
+            stats.get("startup_s"), int(stats.get("executions", 0)), int(stats.get("sim_steps", 0)),
             drawn={k: int(v) for k, v in stats.get("samples", {}).items()}, failures=failures,
             failed_steps=stats.get("failed_steps", {}) or {},
             certified_failures=sum(n for k, n in failures.items() if k.endswith(CERTIFIED_FAILURE)),

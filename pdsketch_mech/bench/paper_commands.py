@@ -106,7 +106,7 @@ def _run(args: argparse.Namespace, jobs: List[Job], kind: str) -> List[Trial]:
 
 
 def _write(args: argparse.Namespace, trials: Sequence[Trial], header, rows, lines, extra: dict) -> None:
-    lines = lines + [commits_line(trials)]
+    lines = lines + [physics_line(trials), commits_line(trials)]
     print(render_text(header, rows, lines), end="")
     write_text(os.path.join(args.out, "table.md"), render_markdown(header, rows, lines))
     write_json(os.path.join(args.out, "results.json"),
@@ -119,6 +119,17 @@ def warn_if_test(split: str) -> None:
     if split == "test":
         print("note: the test split is for reported tables only: one run, at one commit, never to tune on "
               "(docs/evaluation.md)", file=sys.stderr)
+
+
+def physics_line(trials: Sequence[Trial]) -> str:
+    """Physics steps per executed step and the median start-up: where a plan's time goes
+    besides search (each executed step is simulated until its outcome is at rest)."""
+    executions, steps = sum(t.executions for t in trials), sum(t.sim_steps for t in trials)
+    startups = sorted(t.startup_s for t in trials if t.startup_s is not None)
+    per_step = f"{steps / executions:.0f} physics steps per executed step ({executions} executed)" \
+        if executions else "no executed steps recorded"
+    startup = f"; median start-up {startups[len(startups) // 2]:.2f} s" if startups else ""
+    return f"simulation: {per_step}{startup}"
 
 
 def commits_line(trials: Sequence[Trial]) -> str:

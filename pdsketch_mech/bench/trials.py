@@ -78,6 +78,9 @@ class Trial:
     score_ms: Optional[float] = None  # median time to score a batch with learned samplers
     commit: str = ""                  # the checkout that planned it (a resumed run may span several)
     planning_s: Optional[float] = None  # the planner's own time: time_s less the process's start-up
+    startup_s: Optional[float] = None   # the process's start-up: imports, loading, world building
+    executions: int = 0                 # steps executed in simulation (values tried, and replays)
+    sim_steps: int = 0                  # physics steps those executions took
 
     @property
     def key(self) -> Tuple[str, str, int]:
@@ -119,7 +122,8 @@ def run_job(job: Job, folder: Optional[str] = None) -> Trial:
                   run.skeletons, run.refined, run.steps,
                   {k: {s: int(n) for s, n in v.items()} for k, v in stats.get("proposals", {}).items()},
                   {k: int(v) for k, v in stats.get("simulated", {}).items()}, run.reason,
-                  (stats.get("score_ms") or {}).get("median"), checkout_commit(), stats.get("planning_s"))
+                  (stats.get("score_ms") or {}).get("median"), checkout_commit(), stats.get("planning_s"),
+                  stats.get("startup_s"), int(stats.get("executions", 0)), int(stats.get("sim_steps", 0)))
     if trial.status == "solved":
         ok, message = replay_once(job.domain, problem, out, mechanisms=job.mechanisms)
         if not ok:

@@ -9,6 +9,7 @@ shipped name takes the role its position gives it in the documented order, unles
 only a domain (`basis`, a mechanism that is no example problem)."""
 from __future__ import annotations
 
+import json
 import os
 import sys
 from typing import List, Optional, Sequence, Tuple
@@ -16,7 +17,8 @@ from typing import List, Optional, Sequence, Tuple
 from ..lang.errors import PddlError
 from ..lang.loader import declared_domain_name, load_domain, load_problem
 from ..learning.paths import resolve_domain, resolve_problem, shipped_mechanisms, shipped_problems
-from ..planner.plan_document import load_plan
+from ..lang.source import read_text
+from ..planner.plan_document import load_plan, stale_model_note
 from .common import (
     ArgumentParser, EXIT_BAD_INPUT, EXIT_OK, EXIT_UNSOLVED, camera_options, camera_view, output_error, print_error,
     print_warning,
@@ -103,4 +105,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.render:
         print(f"wrote {args.render}", file=sys.stderr)
     print(f"replay: {len(steps)} steps; {result.message}", file=sys.stderr)
+    note = None if result.goal_reached else stale_model_note(json.loads(read_text(args.plan)))
+    if note:
+        print(f"note: {args.plan}: {note}", file=sys.stderr)
     return EXIT_OK if result.goal_reached else EXIT_UNSOLVED

@@ -4,7 +4,8 @@ retreats, closing the fingers) run with the position controllers and physics on.
 
 Execution never trusts a trajectory: a path that does not start where the arm is, or that
 passes through anything, is refused with the reason. This is what makes `replay` a check
-of a plan file, and the planner's own executions the same code path as replay's.
+of a plan file, and the planner's own executions the same code path as replay's. A change
+to how motions are simulated raises planner/plan_document.py's EXECUTION_MODEL.
 """
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ import pybullet as p
 
 from ..world.motion import cartesian_path, path_collision
 from ..world.render import Camera, View, movable_boxes, render, scene_camera
-from ..world.robot import FINGER_JOINTS
+from ..world.robot import ARM_JOINTS, FINGER_JOINTS
 
 if TYPE_CHECKING:
     from ..world.snapshot import Snapshot
@@ -23,6 +24,8 @@ if TYPE_CHECKING:
 
 STEPS_PER_WAYPOINT = 8   # ~33 ms of simulated time per 1 cm waypoint: pushes move at ~0.3 m/s
 SETTLE_AFTER_MOTION = 60
+REST_LINEAR, REST_ANGULAR = 2e-3, 2e-2  # m/s, rad/s: at rest (World.settle's tolerances)
+CLEARANCE = 0.01          # metres: a waypoint this clear of everything, with nothing moving, is teleported
 START_TOLERANCE = 1e-3   # radians: a trajectory must start at the arm's configuration
 CONTACT_DISTANCE = 2e-3  # metres: a finger this close to the object touches it
 FINGER_STEPS = 120       # physics steps at most for the fingers to close or open
@@ -91,26 +94,111 @@ def follow(world: "World", path: Sequence[Sequence[float]], what: str, ignore: S
 def follow_dynamic(world: "World", path: Sequence[Sequence[float]], what: str,
                    recorder: Optional[FrameRecorder] = None) -> Set[str]:
     """Drive the arm along `path` with its position controllers, simulating contacts; returns
-    the objects the hand, or what it holds, touched on the way."""
+    the objects the hand, or what it holds, touched on the way. The path's free tail (a lift
+    once clear, the rest of a retreat) is teleported along when nothing moves: physics there
+    would only hold still what rests, at 8 steps a centimetre (`FreeTail`)."""
     touched: Set[str] = set()
     if not len(path):
         return touched
     _check_start(world, path, what)
     names = {body.id: name for name, body in world.bodies.items()}
     movers = [world.robot] + ([world.bodies[world.attachment.name].id] if world.attachment else [])
-    for q in path:
-        world.arm_targets = np.asarray(q, dtype=float)
-        world.step(STEPS_PER_WAYPOINT)
-        for mover in movers:
-            for contact in p.getContactPoints(bodyA=mover, physicsClientId=world.client):
-                if contact[2] in names and contact[8] < CONTACT_DISTANCE:
-                    touched.add(names[contact[2]])
+    tail, teleported = FreeTail(world, path), False
+    for index, q in enumerate(path):
+        teleported = teleported or tail.starts_at(index)
+        if teleported:
+            world.set_arm(q)
+        else:
+            world.arm_targets = np.asarray(q, dtype=float)
+            world.step(STEPS_PER_WAYPOINT)
+            for mover in movers:
+                for contact in p.getContactPoints(bodyA=mover, physicsClientId=world.client):
+                    if contact[2] in names and contact[8] < CONTACT_DISTANCE:
+                        touched.add(names[contact[2]])
         if recorder:
             recorder.tick(world)
-    world.step(SETTLE_AFTER_MOTION)
+    if not teleported:  # the arm catches up with its last target, what it moved comes to rest
+        world.step(SETTLE_AFTER_MOTION)
     if world.attachment:
         touched.discard(world.attachment.name)
     return touched
+
+
+def _at_rest(world: "World") -> bool:
+    """Every movable object slower than `World.settle`'s tolerances (a held one moves with the hand)."""
+    held = world.attachment.name if world.attachment else None
+    for name in world.movable():
+        if name != held:
+            linear, angular = p.getBaseVelocity(world.bodies[name].id, physicsClientId=world.client)
+            if max(map(abs, linear)) > REST_LINEAR or max(map(abs, angular)) > REST_ANGULAR:
+                return False
+    return True
+
+
+def _clear_of_everything(world: "World", links: Optional[Sequence[int]] = None) -> bool:
+    """The robot (or only its `links`), and what it holds, at least CLEARANCE from every
+    other body; with `links`, from the held one too (closest points, not contacts). The
+    robot's base is bolted down: what it is near, no motion changes."""
+    held = world.bodies[world.attachment.name].id if world.attachment else None
+    robot, client = world.robot, world.client
+    for body in world.bodies.values():
+        if links is not None:
+            if any(p.getClosestPoints(robot, body.id, CLEARANCE, linkIndexA=link, physicsClientId=client)
+                   for link in links):
+                return False
+            continue
+        if body.id == held:
+            continue
+        if any(point[3] != -1 for point in p.getClosestPoints(robot, body.id, CLEARANCE, physicsClientId=client)):
+            return False
+        if held is not None and p.getClosestPoints(held, body.id, CLEARANCE, physicsClientId=client):
+            return False
+    return True
+
+
+class FreeTail:
+    """Where a path's free tail starts: the first waypoint from which every later one keeps
+    the arm, and what it holds, CLEARANCE from everything, found (scanning back from the end)
+    when the world is first at rest, and forgotten when something moves. Teleporting along
+    that tail is what physics would do there (to creep below the rest tolerances), and the
+    arm ends exactly at the last waypoint instead of lagging behind it."""
+
+    def __init__(self, world: "World", path: Sequence[Sequence[float]]):
+        self.world, self.path = world, path
+        self.first: Optional[int] = None
+
+    def starts_at(self, index: int) -> bool:
+        world = self.world
+        if world.observers:  # a recording sees every physics step
+            return False
+        if not _at_rest(world):
+            self.first = None
+            return False
+        if self.first is None:
+            self.first = self._scan(index)
+        return index >= self.first
+
+    def _scan(self, index: int) -> int:
+        world, client = self.world, self.world.client
+        joints = p.getJointStates(world.robot, ARM_JOINTS, physicsClientId=client)
+        held = world.bodies[world.attachment.name].id if world.attachment else None
+        held_state = (p.getBasePositionAndOrientation(held, physicsClientId=client),
+                      p.getBaseVelocity(held, physicsClientId=client)) if held is not None else None
+        targets = world.arm_targets
+        first = index
+        for later in range(len(self.path) - 1, index - 1, -1):
+            world.set_arm(self.path[later])
+            if not _clear_of_everything(world):
+                first = later + 1
+                break
+        for joint, (position, velocity, _, _) in zip(ARM_JOINTS, joints):
+            p.resetJointState(world.robot, joint, position, velocity, physicsClientId=client)
+        world.arm_targets = targets
+        if held_state is not None:
+            (position, orientation), (linear, angular) = held_state
+            p.resetBasePositionAndOrientation(held, position, orientation, physicsClientId=client)
+            p.resetBaseVelocity(held, linear, angular, physicsClientId=client)
+        return first
 
 
 def move_straight(world: "World", direction: Sequence[float], distance: float, what: str,
@@ -167,17 +255,36 @@ def _lift_is_free(world: "World", q: Sequence[float], lift: Sequence[float], dis
 
 
 def set_fingers_dynamic(world: "World", half_width: float, recorder: Optional[FrameRecorder] = None) -> None:
-    """Drive both fingers to `half_width` with physics until they stop (on an object or at the target)."""
+    """Drive both fingers to `half_width` with physics until they stop (on an object or at the
+    target); teleported there instead where nothing moves and they end clear of everything."""
     world.finger_target = half_width
-    previous = None
-    for step in range(FINGER_STEPS):
-        world.step()
-        now = [s[0] for s in p.getJointStates(world.robot, FINGER_JOINTS, physicsClientId=world.client)]
-        if previous is not None and step >= 10 and max(abs(a - b) for a, b in zip(now, previous)) < 1e-5:
-            break
-        previous = now
+    if not _teleport_fingers_free(world, half_width):
+        previous = None
+        for step in range(FINGER_STEPS):
+            world.step()
+            now = [s[0] for s in p.getJointStates(world.robot, FINGER_JOINTS, physicsClientId=world.client)]
+            if previous is not None and step >= 10 and max(abs(a - b) for a, b in zip(now, previous)) < 1e-5:
+                break
+            previous = now
     if recorder:
         recorder.tick(world, force=True)
+
+
+def _teleport_fingers_free(world: "World", half_width: float) -> bool:
+    """Set the fingers to `half_width` if nothing records the run or moves and they are
+    CLEARANCE from every body (the held one included) where they are and at `half_width`:
+    they then sweep through free space. Else leave them (False)."""
+    if world.observers or not _at_rest(world) or not _clear_of_everything(world, FINGER_JOINTS):
+        return False
+    client = world.client
+    joints = p.getJointStates(world.robot, FINGER_JOINTS, physicsClientId=client)
+    world.set_fingers(half_width)
+    if _clear_of_everything(world, FINGER_JOINTS):
+        return True
+    for joint, (position, velocity, _, _) in zip(FINGER_JOINTS, joints):
+        p.resetJointState(world.robot, joint, position, velocity, physicsClientId=client)
+    world.finger_target = half_width
+    return False
 
 
 def fingers_touching(world: "World", obj: str) -> int:

@@ -28,6 +28,10 @@ VALUE_KINDS = {"grasp": "grasp", "placement": "placement", "contact": "contact",
                "conf": "trajectory"}
 TRAJECTORY_KINDS = ("free", "grasp", "place", "held", "push")
 JOINTS = 7
+# Which simulation of motions (operators/execution.py) a plan was found with: its values hold
+# under that one (a push amplifies any change of physics), so it is raised when that changes.
+# 1: every contact motion simulated throughout; 2: free tails and free finger moves teleported.
+EXECUTION_MODEL = 2
 MAX_JOINT = 2 * math.pi  # radians: every Panda joint limit is within
 
 
@@ -44,7 +48,18 @@ def plan_document(status: str, reason: str, time_s: float, seed: int, plan: List
     """The `plan --json` document (docs/commands.md), for classical and manipulation plans
     alike; `problem` (its name) lets replay refuse the plan for another problem."""
     return {"status": status, "reason": reason, "time_s": round(time_s, 6), "seed": seed,
-            "problem": problem, "plan": plan, "stats": stats}
+            "problem": problem, "execution_model": EXECUTION_MODEL, "plan": plan, "stats": stats}
+
+
+def stale_model_note(document: Any) -> Optional[str]:
+    """Why a decoded plan may not replay here: it was found with another execution model
+    (plans saved before they said were model 1); None if it was not."""
+    model = document.get("execution_model", 1) if isinstance(document, dict) else 1
+    if model == EXECUTION_MODEL:
+        return None
+    shown = model if isinstance(model, int) and not isinstance(model, bool) else "unknown"
+    return (f"the plan was found with execution model {escape(str(shown))}, and this version simulates motions "
+            f"with model {EXECUTION_MODEL}: plan again to replay it here")
 
 
 def load_plan(path: str, domain: LoadedDomain, problem: Problem) -> List[Dict[str, Any]]:

@@ -32,12 +32,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Iterator, List, Mapping, NamedTuple, Optional, Set, Tuple
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from ..world.values import Grasp
 from .budget import SamplerBudget
 from .contact import BACK, ContactCandidate, ContactSampler, ContactScene, held_tool_points
-from .geometry import body_mesh, matrix_pose, pose_matrix
+from .geometry import body_mesh, matrix_pose, pose_matrix, rotvec_matrices
 from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
@@ -178,7 +177,7 @@ def _mesh_box(world: "World", name: str) -> Tuple[np.ndarray, np.ndarray]:
 
 def _rotation(axis, angle: float) -> np.ndarray:
     axis = np.asarray(axis, dtype=float)
-    return Rotation.from_rotvec(axis / max(np.linalg.norm(axis), 1e-12) * angle).as_matrix()
+    return rotvec_matrices(axis / max(np.linalg.norm(axis), 1e-12) * angle)
 
 
 def grasp_proposals(world: "World", obj: str, anchor: Mapping[str, object], rng: np.random.Generator,

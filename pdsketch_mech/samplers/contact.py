@@ -22,13 +22,12 @@ from typing import TYPE_CHECKING, Iterator, Optional, Tuple
 import numpy as np
 import pybullet as p
 import trimesh
-from scipy.spatial.transform import Rotation
 
 from ..world.collision import CollisionChecker, body_penetrates
 from ..world.robot import CLOSED
 from ..world.values import Contact
 from .budget import SamplerBudget
-from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
+from .geometry import body_mesh, matrix_pose, pose_matrix, rotvec_matrices, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_TIP, HAND_UNDERSIDE
 from .interface import SampleRequest, Sampler
 
@@ -156,14 +155,14 @@ def _tool_poses(world: "World", tool: str, tool_vertices: np.ndarray, p1: np.nda
     now = pose_matrix(world.pose(tool))[:3, :3]
     n_yaws = budget.contact_yaws
     yaws = rng.uniform(0.0, 2 * np.pi) + np.arange(n_yaws) * 2 * np.pi / n_yaws
-    turns = Rotation.from_rotvec(yaws[:, None] * n_s).as_matrix() @ now          # (k, 3, 3)
+    turns = rotvec_matrices(yaws[:, None] * n_s) @ now          # (k, 3, 3)
     # Tip about the horizontal axis across the line from the hand to p1 (p1 goes down).
     reach = turns @ (p1 - tcp_in_tool[:3, 3])
     reach -= (reach @ n_s)[:, None] * n_s
     axis = np.cross(n_s, reach)
     axis /= np.maximum(np.linalg.norm(axis, axis=1), 1e-9)[:, None]
     tips = np.where(rng.random(n_yaws) < 0.5, rng.uniform(0.0, MAX_TIP, n_yaws), 0.0)
-    turns = Rotation.from_rotvec(tips[:, None] * axis).as_matrix() @ turns
+    turns = rotvec_matrices(tips[:, None] * axis) @ turns
     facing = (turns @ n1) @ n2
     lowest = np.min(np.einsum("kij,nj->kni", turns, tool_vertices) @ n_s, axis=1)  # (k,)
     poses = np.tile(np.eye(4), (n_yaws, 1, 1))

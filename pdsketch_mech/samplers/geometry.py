@@ -5,6 +5,7 @@ link frame, cached per URDF and scale; `world_mesh` places it at the body's curr
 """
 from __future__ import annotations
 
+import math
 import os
 import xml.etree.ElementTree as ElementTree
 from functools import lru_cache
@@ -29,24 +30,70 @@ def pose_matrix(pose: Pose) -> np.ndarray:
 
 
 def matrix_pose(matrix: np.ndarray) -> Pose:
-    """The pose of a 4x4 homogeneous transform."""
-    from scipy.spatial.transform import Rotation
-    quat = Rotation.from_matrix(matrix[:3, :3]).as_quat()
-    return tuple(float(v) for v in matrix[:3, 3]), tuple(float(v) for v in quat)
+    """The pose of a 4x4 homogeneous transform (its rotation part orthonormal)."""
+    return tuple(float(v) for v in matrix[:3, 3]), matrix_quaternion(matrix[:3, :3])
+
+
+def matrix_quaternion(r: np.ndarray) -> Tuple[float, float, float, float]:
+    """The unit quaternion (x, y, z, w), w >= 0, of a rotation matrix, by the largest of its
+    four candidate components (numerically safe at every angle). Plain floats: a sampler
+    turns tens of thousands of matrices into poses (scipy's Rotation: ~90 us a call)."""
+    (m00, m01, m02), (m10, m11, m12), (m20, m21, m22) = (tuple(map(float, row)) for row in r)
+    trace = m00 + m11 + m22
+    if trace > 0:
+        s = 2.0 * (trace + 1.0) ** 0.5
+        q = ((m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s, 0.25 * s)
+    elif m00 > m11 and m00 > m22:
+        s = 2.0 * (1.0 + m00 - m11 - m22) ** 0.5
+        q = (0.25 * s, (m01 + m10) / s, (m02 + m20) / s, (m21 - m12) / s)
+    elif m11 > m22:
+        s = 2.0 * (1.0 + m11 - m00 - m22) ** 0.5
+        q = ((m01 + m10) / s, 0.25 * s, (m12 + m21) / s, (m02 - m20) / s)
+    else:
+        s = 2.0 * (1.0 + m22 - m00 - m11) ** 0.5
+        q = ((m02 + m20) / s, (m12 + m21) / s, 0.25 * s, (m10 - m01) / s)
+    norm = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) ** 0.5 * (1.0 if q[3] >= 0 else -1.0)
+    return q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm
+
+
+def rotvec_matrices(rotvecs: np.ndarray) -> np.ndarray:
+    """Rotation matrices (..., 3, 3) of rotation vectors (..., 3): axis times angle
+    (Rodrigues' formula)."""
+    rotvecs = np.asarray(rotvecs, dtype=float)
+    if rotvecs.shape == (3,):  # one: plain floats, a third of the time of the batched arithmetic
+        return _rotvec_matrix(*map(float, rotvecs))
+    angle = np.linalg.norm(rotvecs, axis=-1)
+    axis = rotvecs / np.where(angle > 1e-12, angle, 1.0)[..., None]   # ~0 for no turn: then R = I
+    x, y, z = axis[..., 0], axis[..., 1], axis[..., 2]
+    zero = np.zeros_like(x)
+    cross = np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)
+    sin, cos = np.sin(angle)[..., None, None], np.cos(angle)[..., None, None]
+    return np.eye(3) + sin * cross + (1.0 - cos) * (cross @ cross)
+
+
+def _rotvec_matrix(x: float, y: float, z: float) -> np.ndarray:
+    angle = (x * x + y * y + z * z) ** 0.5
+    if angle < 1e-12:
+        return np.eye(3)
+    x, y, z = x / angle, y / angle, z / angle
+    sin, cos = math.sin(angle), math.cos(angle)
+    c = 1.0 - cos
+    return np.array([[cos + c * x * x, c * x * y - sin * z, c * x * z + sin * y],
+                     [c * x * y + sin * z, cos + c * y * y, c * y * z - sin * x],
+                     [c * x * z - sin * y, c * y * z + sin * x, cos + c * z * z]])
 
 
 def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The smallest rotation (3x3 matrix) taking unit vector `a` onto unit vector `b`;
     for opposite vectors, half a turn about an axis perpendicular to `a`."""
-    from scipy.spatial.transform import Rotation
     axis = np.cross(a, b)
     sin, cos = np.linalg.norm(axis), float(np.dot(a, b))
     if sin < 1e-9:
         if cos > 0:
             return np.eye(3)
         axis = np.cross(a, np.eye(3)[int(np.argmin(np.abs(a)))])  # the axis least parallel to a
-        return Rotation.from_rotvec(np.pi * axis / np.linalg.norm(axis)).as_matrix()
-    return Rotation.from_rotvec(axis / sin * np.arctan2(sin, cos)).as_matrix()
+        return rotvec_matrices(np.pi * axis / np.linalg.norm(axis))
+    return rotvec_matrices(axis / sin * np.arctan2(sin, cos))
 
 
 @lru_cache(maxsize=256)

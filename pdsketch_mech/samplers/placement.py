@@ -14,13 +14,12 @@ from typing import TYPE_CHECKING, Iterator, List, Optional, Sequence, Tuple
 import numpy as np
 import pybullet as p
 import trimesh
-from scipy.spatial.transform import Rotation
 
 from ..world.collision import CollisionChecker, PENETRATION, body_penetration
 from ..world.contacts import read_contacts
 from ..world.values import Placement, Pose
 from .budget import SamplerBudget
-from .geometry import matrix_pose, pose_matrix, rotation_between, sample_surface, solid_mesh
+from .geometry import matrix_pose, pose_matrix, rotation_between, rotvec_matrices, sample_surface, solid_mesh
 from .interface import SampleRequest, Sampler
 
 if TYPE_CHECKING:
@@ -69,7 +68,7 @@ def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, po
                 support_normal: np.ndarray, twist: float) -> np.ndarray:
     """4x4 object pose with its facet (`normal`, `centre`) against the plane through `point`
     with normal `support_normal`, `GAP` above it, twisted by `twist` about that normal."""
-    rotation = Rotation.from_rotvec(twist * support_normal).as_matrix() @ rotation_between(normal, -support_normal)
+    rotation = rotvec_matrices(twist * support_normal) @ rotation_between(normal, -support_normal)
     lowest = float(np.min((vertices - centre) @ rotation.T @ support_normal))  # ~0: the facet is on the hull
     matrix = np.eye(4)
     matrix[:3, :3] = rotation
