@@ -2,6 +2,7 @@
 scenes that settle where they are put, speed."""
 from __future__ import annotations
 
+import inspect
 import subprocess
 import sys
 
@@ -15,6 +16,7 @@ from pdsketch_mech.lang.loader import load_domain
 from pdsketch_mech.lang.parser import parse_text
 from pdsketch_mech.lang.scene import build_scene
 from pdsketch_mech.world.asset_index import asset_info
+from pdsketch_mech.world.shapes import CATEGORIES
 
 from conftest import ROOT
 
@@ -48,15 +50,16 @@ def test_splits_hold_out_instances_and_categories(task):
     for obj in spec.objects:
         if obj.fixed and obj.name == "table":
             continue
-        train, test = set(obj.assets.train), set(obj.assets.test)
-        assert test - train, f"{task}/{obj.name}: the test split has no held-out asset"
-        for asset in train | test:
+        train, dev, test = (set(obj.assets.of(split)) for split in ("train", "dev", "test"))
+        assert dev - train, f"{task}/{obj.name}: the dev split has no held-out asset"
+        for asset in train | dev | test:
             asset_info(asset)  # every asset exists
     if task in HELD_OUT_CATEGORY:
         obj = spec.object(HELD_OUT_CATEGORY[task])
-        assert _categories(obj.assets.test) - _categories(obj.assets.train), f"{task}: no held-out category"
+        for split in ("dev", "test"):
+            assert _categories(obj.assets.of(split)) - _categories(obj.assets.train), f"{task}: no held-out category"
     # Sampled instances use only their split's assets.
-    for split in ("train", "dev"):
+    for split in ("train", "dev", "test"):
         for seed in range(20):
             inst = sample(spec, split, seed)
             for placed in inst.objects:
@@ -318,17 +321,50 @@ def test_edge_objects_start_14_cm_or_more_from_every_table_edge():
 
 
 @pytest.mark.parametrize("task", ALL)
-def test_dev_and_test_share_assets_but_no_instance(task):
-    """Dev is for tuning and test for reporting: the same held-out assets, never the same
-    scene, so a run on dev says nothing about which test instances will come."""
+def test_test_shapes_are_in_neither_train_nor_dev_and_no_instance_is_shared(task):
+    """Test reports new shapes: every object a task names (not the table, not clutter) is, in
+    test, an asset neither train nor dev ever shows; and dev and test never share a scene."""
     spec = TASKS[task]
+    for obj in spec.objects:
+        if obj.name != "table":
+            seen = set(obj.assets.train) | set(obj.assets.dev)
+            assert obj.assets.test_only and not set(obj.assets.of("test")) & seen, f"{task}/{obj.name}"
     dev = {_scene(sample(spec, "dev", seed)) for seed in range(30)}
     test = {_scene(sample(spec, "test", seed)) for seed in range(30)}
     assert not dev & test
     for placed in sample(spec, "test", 0).objects:
         if placed.role != "distractor":
-            assert placed.asset in spec.object(placed.name).assets.test
+            assert placed.asset in spec.object(placed.name).assets.test_only or placed.name == "table"
     assert sample(spec, "test", 4).name == f"{task}-test-4" and sample(spec, "dev", 4).name == f"{task}-dev-4"
+
+
+def test_a_test_shape_is_a_new_shape_not_a_rescaled_one():
+    """A task's scale range cannot draw a test variant from a train or dev one: their
+    builders' lengths differ by more than one factor (5 % apart at least), or an angle does.
+    Furniture is never scaled: any other size is a new shape."""
+    held_out = {a for spec in TASKS.values() for obj in spec.objects for a in obj.assets.test_only}
+    shown = {a for spec in TASKS.values() for obj in spec.objects for a in obj.assets.train + obj.assets.dev}
+    assert not held_out & shown
+    for asset in sorted(held_out):
+        for other in sorted(a for a in shown if a.split("/")[0] == asset.split("/")[0]):
+            (lengths, angles), (other_lengths, other_angles) = _shape_parameters(asset), _shape_parameters(other)
+            factors = lengths / other_lengths
+            if CATEGORIES[asset.split("/")[0]].fixed:
+                assert np.abs(factors - 1.0).max() > 0.01 or np.abs(angles - other_angles).max() > 1.0, (asset, other)
+            else:
+                assert factors.max() / factors.min() > 1.05 or np.abs(angles - other_angles).max() > 1.0, (asset, other)
+
+
+def _shape_parameters(asset):
+    """A variant's builder arguments, defaults included: (lengths in metres, angles in degrees)."""
+    category, index = asset.split("/")
+    cat = CATEGORIES[category]
+    bound = inspect.signature(cat.builder).bind(**cat.variants[int(index)].params)
+    bound.apply_defaults()
+    lengths, angles = [], []
+    for name, value in bound.arguments.items():
+        (angles if name.endswith("_deg") else lengths).extend(np.ravel(value).astype(float))
+    return np.array(lengths), np.array(angles + [0.0])
 
 
 def _scene(instance):

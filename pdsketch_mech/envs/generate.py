@@ -3,7 +3,8 @@
 `sample(task, split, seed)` draws every choice from one random generator in a fixed order,
 so the same (task, split, seed) always gives the same instance and the same bytes
 (`problem_text`). The train and dev splits seed it with `seed`, the test split with (seed,
-TEST_STREAM): dev and test share their assets but no instance. Without a seed it gives the canonical instance: the first train
+TEST_STREAM): dev and test never share an instance (nor, where a task names test-only
+assets, a shape: spec.py). Without a seed it gives the canonical instance: the first train
 asset of every object at its canonical pose and scale (1 where its range allows), without distractors. With
 `vary_assets=False` it keeps the canonical assets and perturbs only the poses (what the
 scripted demonstrations are checked on).
@@ -30,7 +31,7 @@ GAP = 0.001          # metres between an object's lowest point and its support's
 CLEARANCE = 0.01     # metres between the footprints of objects on the same level
 MAX_TRIES = 200      # redraws of a whole instance before giving up
 DISTRACTOR_TRIES = 60
-TEST_STREAM = 2026   # keeps test instances apart from dev ones, which have the same assets
+TEST_STREAM = 2026   # keeps test instances apart from dev ones (which may have the same assets)
 
 
 @dataclass(frozen=True)

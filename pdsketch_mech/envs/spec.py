@@ -21,23 +21,34 @@ from typing import Optional, Tuple
 Range = Tuple[float, float]
 
 # What each split is for: train feeds self-play, dev every tuning run, test the reported
-# tables only. Dev and test share the held-out assets (too few variants for three sets) but
-# never an instance: their seeds draw from different random streams (generate.py).
+# tables only. A built-in task's test assets are shapes that neither train nor dev contains
+# (variants made for it, `world/shapes.py`), so a reported table measures new shapes, not
+# only new poses; dev keeps held-out shapes of its own for tuning. Dev and test never share
+# an instance either: their seeds draw from different random streams (generate.py).
 SPLITS = ("train", "dev", "test")
 
 
 @dataclass(frozen=True)
 class Assets:
-    """Asset choices (`"category/variant"`): `train` for self-play, `test` (held out) for the
-    dev and test splits; the canonical instance uses `train[0]`."""
+    """Asset choices (`"category/variant"`): `train` for self-play, `dev` (held out from
+    train) for tuning, `test_only` (held out from both) for the test split; without
+    `test_only`, test draws from `dev` too. The canonical instance uses `train[0]`."""
 
     train: Tuple[str, ...]
-    test: Tuple[str, ...]
+    dev: Tuple[str, ...]
+    test_only: Tuple[str, ...] = ()
 
     def of(self, split: str) -> Tuple[str, ...]:
         if split not in SPLITS:
             raise ValueError(f"unknown split {split!r}: expected one of {', '.join(SPLITS)}")
-        return self.train if split == "train" else self.test
+        if split == "train":
+            return self.train
+        return self.test_only or self.dev if split == "test" else self.dev
+
+    @property
+    def held_out(self) -> Tuple[str, ...]:
+        """Every asset train never shows: dev's, then test's own."""
+        return self.dev + tuple(a for a in self.test_only if a not in self.dev)
 
     @property
     def canonical(self) -> str:

@@ -258,13 +258,17 @@ def _assets(value: Any, error) -> Assets:
     if isinstance(value, list):
         return Assets(*(2 * (_asset_list(value, error),)))
     if not isinstance(value, dict) or not value.get("train"):
-        raise error("expected {\"train\": [ASSET, ...], \"test\": [ASSET, ...]} (held-out assets for dev and test), "
-                    "or one list for both")
+        raise error("expected {\"train\": [ASSET, ...], \"test\": [ASSET, ...]} (held-out assets for dev and test; "
+                    "with \"dev\": [...] too, test's are its own), or one list for every split")
     for key in value:
-        if key not in ("train", "test"):
-            raise error(f"unknown split '{key}'{did_you_mean(key, ('train', 'test'))} (train, test)")
+        if key not in ("train", "dev", "test"):
+            raise error(f"unknown split '{key}'{did_you_mean(key, ('train', 'dev', 'test'))} (train, dev, test)")
     train = _asset_list(value["train"], lambda m: error(f"train: {m}"))
-    return Assets(train, _asset_list(value.get("test", value["train"]), lambda m: error(f"test: {m}")))
+    test = _asset_list(value.get("test", value["train"]), lambda m: error(f"test: {m}"))
+    if "dev" not in value:
+        return Assets(train, test)
+    dev = _asset_list(value["dev"], lambda m: error(f"dev: {m}"))
+    return Assets(train, dev, test)
 
 
 def _asset_list(names: Any, error) -> Tuple[str, ...]:
@@ -346,7 +350,10 @@ def task_document(task: TaskSpec) -> Dict[str, Any]:
     gives the same TaskSpec back."""
     objects: Dict[str, Dict[str, Any]] = {}
     for spec in task.objects:
-        fields: Dict[str, Any] = {"assets": {"train": list(spec.assets.train), "test": list(spec.assets.test)},
+        assets = spec.assets
+        fields: Dict[str, Any] = {"assets": {"train": list(assets.train), "dev": list(assets.dev),
+                                             "test": list(assets.test_only)} if assets.test_only else
+                                  {"train": list(assets.train), "test": list(assets.dev)},
                                   "xy": list(spec.xy), "yaw": spec.yaw, "on": spec.on, "fixed": spec.fixed,
                                   "shift": list(spec.noise_xy), "turn": spec.noise_yaw, "scale": list(spec.scale)}
         optional = {"z": spec.z or None, "tilt": list(spec.tilt) if any(spec.tilt) else None, "frame": spec.frame, "surface": spec.surface, "mass": spec.mass,

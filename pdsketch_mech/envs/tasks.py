@@ -26,7 +26,7 @@ SMALL_TABLE = ObjectSpec("table", Assets(("table/1",), ("table/1",)), xy=(0.6, 0
                          noise_xy=(0.0, 0.0), noise_yaw=0.0, role="a smaller table, top at z = 0, +y edge at y = 0.5")
 
 # The Hook tasks' light box beyond the arm's reach (the shipped problems/hook-use.pddl scene).
-OUT_OF_REACH_BOX = ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",)), xy=(0.9, 0.0), yaw=90.0, mass=0.2,
+OUT_OF_REACH_BOX = ObjectSpec("target", Assets(("box/0", "box/1"), ("box/2",), ("box/3", "box/4")), xy=(0.9, 0.0), yaw=90.0, mass=0.2,
                               friction=0.6, scale=(0.9, 1.1), role="the box out of reach")
 
 # Small household objects that stay where they are put (no balls: they roll).
@@ -39,7 +39,9 @@ EDGE = TaskSpec(
     objects=(
         SMALL_TABLE,
         ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/0", "calculator/1", "document/0", "document/1"),
-                                  ("caliper/0", "caliper/1", "caliper/2", "plate/2", "calculator/2", "document/2")),
+                                  ("caliper/0", "caliper/1", "caliper/2", "plate/2", "calculator/2", "document/2"),
+                                  ("caliper/3", "caliper/4", "plate/3", "plate/4", "calculator/3", "calculator/4",
+                                   "document/3", "document/4")),
                    xy=(0.48, 0.2), yaw_by_category=(("calculator", 90.0), ("document", 90.0), ("caliper", 90.0)),
                    scale=(0.9, 1.1), role="the flat object to pick up"),
     ),
@@ -61,7 +63,9 @@ HOOK = TaskSpec(
                                   # pinched (the Edge premise), so it is a hook only after a push over
                                   # the edge -- the push-pick-hook task.
                                   ("spatula/0", "spatula/1", "spatula/2", "l-stick/2", "soup-ladle/2", "hammer/2",
-                                   "spoon/2")),
+                                   "spoon/2"),
+                                  ("spatula/3", "spatula/4", "l-stick/3", "l-stick/4", "soup-ladle/3", "hammer/3",
+                                   "spoon/3")),
                    xy=(0.5, 0.15), scale=(0.9, 1.15), role="the hook"),
         OUT_OF_REACH_BOX,
     ),
@@ -78,13 +82,16 @@ LEVER = TaskSpec(
     "object on the overhang tips the near side up",
     objects=(
         TABLE,
-        ObjectSpec("ledge", Assets(("ledge/0", "ledge/1"), ("ledge/2",)), xy=(0.55, -0.12), fixed=True,
+        ObjectSpec("ledge", Assets(("ledge/0", "ledge/1"), ("ledge/2",), ("ledge/3", "ledge/4")), xy=(0.55, -0.12),
+                   fixed=True,
                    role="the fulcrum: platform, pit, wall and curb"),
         # Paired with the ledge (ledge/i cradles plate/i) and centred in its cradle.
-        ObjectSpec("plate", Assets(("plate/0", "plate/1"), ("plate/2",)), on="ledge", frame="ledge",
+        ObjectSpec("plate", Assets(("plate/0", "plate/1"), ("plate/2",), ("plate/3", "plate/4")), on="ledge",
+                   frame="ledge",
                    surface=LEDGE_HEIGHT, match="ledge", noise_xy=(0.0, 0.0), role="the plate to pick up"),
         ObjectSpec("weight", Assets(("box/0", "box/1", "dipper/0", "dipper/1", "walnut/0", "walnut/1"),
-                                    ("box/2", "dipper/2", "walnut/2", "spoon/0", "spoon/1", "spoon/2")),
+                                    ("box/2", "dipper/2", "walnut/2", "spoon/0", "spoon/1", "spoon/2"),
+                                    ("box/3", "dipper/3", "dipper/4", "walnut/3", "walnut/4", "spoon/3")),
                    xy=(0.42, 0.22), mass=0.5, friction=0.8, role="the heavy object"),
     ),
     goal="(holding plate)",
@@ -99,12 +106,14 @@ POKING = TaskSpec(
     "tool pushed through the tunnel pokes it out",
     objects=(
         TABLE,
-        ObjectSpec("tunnel", Assets(("tunnel/3",), ("tunnel/4",)), xy=(0.52, 0.02), yaw=90.0, fixed=True,
+        ObjectSpec("tunnel", Assets(("tunnel/3",), ("tunnel/4",), ("tunnel/5", "tunnel/6")), xy=(0.52, 0.02),
+                   yaw=90.0, fixed=True,
                    noise_yaw=10.0, role="the tunnel, across the table (along y)"),
-        ObjectSpec("target", Assets(("block/0", "block/1"), ("block/2", "small-block/2")), frame="tunnel",
+        ObjectSpec("target", Assets(("block/0", "block/1"), ("block/2", "small-block/2"), ("block/3", "small-block/3")),
+                   frame="tunnel",
                    noise_xy=(0.01, 0.01), role="the block in the tunnel"),
         ObjectSpec("tool", Assets(("wooden-stick/0", "wooden-stick/1", "spatula/0", "spatula/2"),
-                                  ("spoon/2", "wooden-stick/2")),
+                                  ("spoon/2", "wooden-stick/2"), ("spoon/3", "wooden-stick/3")),
                    xy=(0.34, -0.28), yaw=90.0, scale=(1.0, 1.15), role="the poking tool"),
     ),
     goal="(holding target)",
@@ -120,10 +129,12 @@ COM = TaskSpec(
     "resting on a small block alone, which only a placement with its centre of mass over the block achieves",
     objects=(
         SMALL_TABLE,
-        ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/1"), ("plate/2",)), xy=(0.42, 0.0),
+        ObjectSpec("flat", Assets(("plate/0", "plate/1", "calculator/1"), ("plate/2",), ("plate/3", "plate/4")),
+                   xy=(0.42, 0.0),
                    yaw_by_category=(("calculator", 90.0),), scale=(0.9, 1.1),
                    align=Align("+y", SMALL_TABLE_EDGE_Y, 0.38), role="the object to place"),
-        ObjectSpec("pedestal", Assets(("small-block/0", "small-block/1"), ("small-block/2",)), xy=(0.58, 0.0),
+        ObjectSpec("pedestal", Assets(("small-block/0", "small-block/1"), ("small-block/2",),
+                                      ("small-block/3", "small-block/4")), xy=(0.58, 0.0),
                    mass=1.0, role="the small block"),
     ),
     goal="(and (support flat pedestal) (not (support flat table)) (handempty))",
@@ -138,12 +149,15 @@ SLOPE = TaskSpec(
     "the slope below it holds it there",
     objects=(
         TABLE,
-        ObjectSpec("slope", Assets(("slope/1",), ("slope/2",)), xy=(0.6, 0.25), fixed=True, noise_yaw=10.0,
+        ObjectSpec("slope", Assets(("slope/1",), ("slope/2",), ("slope/3",)), xy=(0.6, 0.25), fixed=True,
+                   noise_yaw=10.0,
                    role="the slope, rising towards +x"),
         ObjectSpec("blocker", Assets(("wooden-stick/0", "wooden-stick/1", "l-stick/0", "l-stick/1"),
-                                     ("spoon/0", "spoon/2", "wooden-stick/2", "l-stick/2")),
+                                     ("spoon/0", "spoon/2", "wooden-stick/2", "l-stick/2"),
+                                     ("spoon/3", "wooden-stick/3", "l-stick/3", "l-stick/4")),
                    xy=(0.42, -0.15), yaw=90.0, friction=1.5, role="the blocker (rubbery: it stays on the slope)"),
-        ObjectSpec("block", Assets(("block/0",), ("block/1",)), xy=(0.42, -0.38), role="the block to leave on the slope"),
+        ObjectSpec("block", Assets(("block/0",), ("block/1",), ("block/3", "block/4")), xy=(0.42, -0.38),
+                   role="the block to leave on the slope"),
     ),
     # On the slope and off the table: a block set at the slope's foot rests on both, and
     # "on the slope" alone would count that.
@@ -161,7 +175,8 @@ PUSH_PICK_HOOK = TaskSpec(
     "reach: the caliper, once held, is the hook that pulls the box closer",
     objects=(
         SMALL_TABLE,
-        ObjectSpec("tool", Assets(("caliper/0", "caliper/1"), ("caliper/2",)), xy=(0.42, 0.22), yaw=90.0,
+        ObjectSpec("tool", Assets(("caliper/0", "caliper/1"), ("caliper/2",), ("caliper/3", "caliper/4")),
+                   xy=(0.42, 0.22), yaw=90.0,
                    scale=(0.95, 1.1), role="the caliper: flat, then a hook"),
         replace(OUT_OF_REACH_BOX, xy=(0.92, -0.05)),  # the smaller table ends at x = 1.0
     ),
@@ -177,12 +192,15 @@ HOOK_SLOPE = TaskSpec(
     "unless something (the ladle, or a brick) blocks it below",
     objects=(
         TABLE,
-        ObjectSpec("tool", Assets(("soup-ladle/0", "soup-ladle/1"), ("soup-ladle/2",)), xy=(0.5, 0.15),
+        ObjectSpec("tool", Assets(("soup-ladle/0", "soup-ladle/1"), ("soup-ladle/2",), ("soup-ladle/3", "soup-ladle/4")),
+                   xy=(0.5, 0.15),
                    scale=(0.9, 1.1), friction=1.5, role="the ladle: a hook, then a blocker"),
         replace(OUT_OF_REACH_BOX, role="the box out of reach, to leave on the slope"),
-        ObjectSpec("slope", Assets(("slope/1",), ("slope/2",)), xy=(0.6, -0.3), fixed=True, noise_yaw=10.0,
+        ObjectSpec("slope", Assets(("slope/1",), ("slope/2",), ("slope/3",)), xy=(0.6, -0.3), fixed=True,
+                   noise_yaw=10.0,
                    role="the slope, rising towards +x"),
-        ObjectSpec("brick", Assets(("brick/0", "brick/1"), ("brick/2",)), xy=(0.36, -0.08), yaw=90.0,
+        ObjectSpec("brick", Assets(("brick/0", "brick/1"), ("brick/2",), ("brick/3", "brick/4")), xy=(0.36, -0.08),
+                   yaw=90.0,
                    role="another possible blocker"),
     ),
     goal="(and (support target slope) (not (support target table)) (handempty))",
