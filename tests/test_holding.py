@@ -31,11 +31,11 @@ def movable_assets():
 
 
 # Lying flat, these are out of the gripper's range: wider than its 7.5 cm grasp (bricks,
-# calculators 0 and 2), or too low to pinch with the fingertips grasp.SUPPORT_CLEARANCE above
-# the table (documents, 9 mm calipers, a plate's 6 mm floor and 1.5 cm rim). Plates, documents
-# and calipers are grasped once pushed over an edge.
-OUT_OF_RANGE_LYING_FLAT = {f"{cat}/{i}" for cat in ("brick", "plate", "document", "caliper") for i in range(3)} \
-    | {"calculator/0", "calculator/2"}
+# calculators 0, 2 and 4), or too low to pinch with the fingertips grasp.SUPPORT_CLEARANCE above
+# the table (documents, 9 mm calipers, a plate's 6 mm floor and 1.2-1.8 cm rim, calculator 3's
+# wedge, 8 mm at its front). Plates, documents and calipers are grasped once pushed over an edge.
+OUT_OF_RANGE_LYING_FLAT = {f"{cat}/{i}" for cat in ("brick", "plate", "document", "caliper") for i in range(5)} \
+    | {"calculator/0", "calculator/2", "calculator/3", "calculator/4"}
 # Assets the gripper can hold lying flat but the grasp sampler finds no grasp of. banana/1
 # (3.0 cm tall): a level top-down pinch across its middle verifies and holds through the lift
 # and the turn, its fingertips 8.8 mm above the table; but the faces of its capsules' low-poly

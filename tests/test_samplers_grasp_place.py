@@ -12,6 +12,7 @@ from scipy.spatial.transform import Rotation
 from pdsketch_mech.envs.tasks import LEDGE_HEIGHT
 from pdsketch_mech.lang.scene import SceneObject
 from pdsketch_mech.samplers.budget import SamplerBudget
+from pdsketch_mech.samplers.mesh import Mesh
 from pdsketch_mech.samplers.geometry import body_mesh, body_parts, pose_matrix, world_mesh
 from pdsketch_mech.samplers.grasp import antipodal_pairs, sample_grasps, world_grasp_pose
 from pdsketch_mech.samplers.placement import RISE, fixed_holders, rest_on_relief, sample_placements
@@ -76,7 +77,7 @@ def tcp_at(world, q, pose):
 
 
 def surface_normal(mesh, point):
-    closest, distance, face = trimesh.proximity.closest_point(mesh, [point])
+    closest, distance, face = trimesh.proximity.closest_point(trimesh.Trimesh(mesh.vertices, mesh.faces), [point])
     return float(distance[0]), mesh.face_normals[face[0]]
 
 
@@ -125,7 +126,8 @@ def test_antipodal_pairs_of_a_two_part_hook_lie_on_its_outer_surface():
 def test_pairs_across_non_parallel_faces_are_not_antipodal():
     # A 4 cm long prism with a 30 degree apex: only its parallel end caps are antipodal.
     section = np.array([[0, 0], [0.03, 0], [0.03, 0.03 * np.tan(np.radians(30))]])
-    wedge = trimesh.Trimesh(np.concatenate([np.c_[section, np.zeros(3)], np.c_[section, np.full(3, 0.04)]])).convex_hull
+    hull = trimesh.Trimesh(np.concatenate([np.c_[section, np.zeros(3)], np.c_[section, np.full(3, 0.04)]])).convex_hull
+    wedge = Mesh(hull.vertices, hull.faces, hull.facets)
     pairs = [pair for pair in antipodal_pairs(wedge, 400, np.random.default_rng(6)) if pair]
     assert pairs and all(abs(n1[2]) > 0.999 and abs(np.linalg.norm(p2 - p1) - 0.04) < 1e-6
                          for p1, n1, p2, _ in pairs)

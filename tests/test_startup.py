@@ -51,9 +51,9 @@ def test_bench_startup_reports_every_case(tmp_path, capsys):
     out = tmp_path / "startup.json"
     assert bench.main(["startup", "--runs", "1", "--json", str(out)]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0].startswith("startup: median of 1 fresh processes") and len(lines) == 4
+    assert lines[0].startswith("startup: median of 1 fresh processes") and len(lines) == 5
     figures = json.loads(out.read_text())
-    assert [c["target_s"] for c in figures["cases"]] == [0.3, 0.3, None]
+    assert [c["target_s"] for c in figures["cases"]] == [0.3, 0.3, 0.3, None]
     assert all(c["median_s"] > 0 for c in figures["cases"])
 
 

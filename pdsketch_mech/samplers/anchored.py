@@ -213,7 +213,7 @@ def _pinch(mesh, frame: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     hits = []
     for sign in (1.0, -1.0):
         origin = centre + sign * closing * 0.2
-        points, _, _ = mesh.ray.intersects_location([origin], [-sign * closing])
+        points, _ = mesh.all_hits(origin, -sign * closing)
         if not len(points):
             return None
         hits.append(points[int(np.argmin(np.linalg.norm(points - origin, axis=1)))])
@@ -277,7 +277,7 @@ def _side_point(world: "World", target: str, point: np.ndarray,
     outward /= max(np.linalg.norm(outward), 1e-9)
     rotation = pose[:3, :3]
     origin = rotation.T @ (point + outward - pose[:3, 3])   # 1 m out, in the target's frame
-    hits, _, faces = mesh.ray.intersects_location([origin], [rotation.T @ -outward])
+    hits, faces = mesh.all_hits(origin, rotation.T @ -outward)
     if not len(hits):
         return None
     k = int(np.argmin(np.linalg.norm(hits - origin, axis=1)))

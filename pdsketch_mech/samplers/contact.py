@@ -21,13 +21,13 @@ from typing import TYPE_CHECKING, Iterator, Optional, Tuple
 
 import numpy as np
 import pybullet as p
-import trimesh
 
 from ..world.collision import CollisionChecker, body_penetrates
 from ..world.robot import CLOSED
 from ..world.values import Contact
 from .budget import SamplerBudget
 from .geometry import body_mesh, matrix_pose, pose_matrix, rotvec_matrices, sample_surface
+from .mesh import Mesh
 from .gripper import FINGER_HALF_WIDTH, FINGER_TIP, HAND_UNDERSIDE
 from .interface import SampleRequest, Sampler
 
@@ -47,7 +47,7 @@ MAX_TIP = 0.7           # radians a held tool may be tipped (its far end down) f
 
 
 @lru_cache(maxsize=128)
-def _face_weights(mesh: trimesh.Trimesh) -> np.ndarray:
+def _face_weights(mesh: Mesh) -> np.ndarray:
     """Sampling weights per face: half by area, half uniform over planar regions, so that
     small faces of a shape (the inside of a hook's crook) are not drowned by big ones."""
     area = mesh.area_faces
@@ -59,7 +59,7 @@ def _face_weights(mesh: trimesh.Trimesh) -> np.ndarray:
     return weights / weights.sum()
 
 
-def surface_points(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+def surface_points(mesh: Mesh, count: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
     """`count` surface points (mesh frame) with outward normals, drawn by `_face_weights`."""
     return sample_surface(mesh, count, rng, _face_weights(mesh))
 

@@ -1,7 +1,9 @@
-"""Shapes of the world's bodies as trimesh meshes, for samplers: surfaces, normals, rays.
+"""Shapes of the world's bodies for samplers (surfaces, normals, rays), and pose arithmetic.
 
 A body's mesh is the union of its URDF collision parts (each convex) as one solid, in the
-link frame, cached per URDF and scale; `world_mesh` places it at the body's current pose.
+link frame, derived with trimesh once per URDF and scale and then read from the disk cache
+as a `mesh.Mesh` (a plan on cached assets imports no trimesh); `world_mesh` places it at
+the body's current pose.
 """
 from __future__ import annotations
 
@@ -13,12 +15,14 @@ from typing import TYPE_CHECKING, Optional, Tuple
 
 import numpy as np
 import pybullet as p
-import trimesh
 
 if TYPE_CHECKING:
+    import trimesh
+
     from ..world.world import World
 
 from ..world.values import Pose
+from .mesh import Mesh, cached_solid
 
 
 def pose_matrix(pose: Pose) -> np.ndarray:
@@ -97,8 +101,9 @@ def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 @lru_cache(maxsize=256)
-def urdf_mesh(urdf: str, scale: float = 1.0) -> trimesh.Trimesh:
-    """The collision parts of a single-link URDF, concatenated, in the link frame."""
+def urdf_mesh(urdf: str, scale: float = 1.0) -> "trimesh.Trimesh":
+    """The collision parts of a single-link URDF, concatenated, in the link frame (trimesh)."""
+    import trimesh
     root = ElementTree.parse(urdf).getroot()
     parts = []
     for collision in root.iter("collision"):
@@ -123,11 +128,16 @@ def urdf_mesh(urdf: str, scale: float = 1.0) -> trimesh.Trimesh:
 
 
 @lru_cache(maxsize=256)
-def solid_mesh(urdf: str, scale: float = 1.0) -> trimesh.Trimesh:
-    """The union of a URDF's convex collision parts as one watertight solid (shared; do not
-    modify). The concatenated parts of `urdf_mesh` keep the faces where parts overlap or
-    touch (a table's leg tops under its top), which would stop rays, offer hidden upward
-    faces, and yield points inside the object."""
+def solid_mesh(urdf: str, scale: float = 1.0) -> Mesh:
+    """The union of a URDF's convex collision parts as one watertight solid, with its convex
+    hull (shared; never modified). The concatenated parts of `urdf_mesh` keep the faces where
+    parts overlap or touch (a table's leg tops under its top), which would stop rays, offer
+    hidden upward faces, and yield points inside the object."""
+    return cached_solid(urdf, scale, _trimesh_solid)
+
+
+def _trimesh_solid(urdf: str, scale: float) -> "trimesh.Trimesh":
+    import trimesh
     mesh = urdf_mesh(urdf, scale)
     parts = [part.convex_hull for part in mesh.split(only_watertight=False)]  # parts are convex
     if len(parts) == 1:
@@ -141,26 +151,24 @@ def solid_mesh(urdf: str, scale: float = 1.0) -> trimesh.Trimesh:
     return mesh
 
 
-def body_parts(world: "World", name: str) -> trimesh.Trimesh:
+def body_parts(world: "World", name: str) -> "trimesh.Trimesh":
     """The body's convex collision parts, concatenated, in its link frame (shared)."""
     body = world.bodies[name]
     return urdf_mesh(body.urdf, body.scale)
 
 
-def body_mesh(world: "World", name: str) -> trimesh.Trimesh:
-    """The body's solid (parts unioned) in its link frame (shared; do not modify)."""
+def body_mesh(world: "World", name: str) -> Mesh:
+    """The body's solid (parts unioned) in its link frame (shared; never modified)."""
     body = world.bodies[name]
     return solid_mesh(body.urdf, body.scale)
 
 
-def world_mesh(world: "World", name: str) -> trimesh.Trimesh:
-    """A copy of the body's mesh at its current pose."""
-    mesh = body_mesh(world, name).copy()
-    mesh.apply_transform(pose_matrix(world.pose(name)))
-    return mesh
+def world_mesh(world: "World", name: str) -> Mesh:
+    """The body's solid, and its hull, at the body's current pose."""
+    return body_mesh(world, name).transformed(pose_matrix(world.pose(name)))
 
 
-def sample_surface(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator,
+def sample_surface(mesh: Mesh, count: int, rng: np.random.Generator,
                    weights: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
     """`count` points on the surface with their outward face normals; faces are drawn with
     probabilities `weights` (default: proportional to area)."""

@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING, Callable, Dict, Iterator, List, Optional, Tupl
 
 import numpy as np
 import pybullet as p
-import trimesh
 
 from ..world.collision import CollisionChecker
 from ..world.robot import MAX_OPENING, grasp_opening
@@ -27,6 +26,7 @@ from .budget import SamplerBudget
 from .geometry import body_mesh, matrix_pose, pose_matrix, sample_surface
 from .gripper import FINGER_HALF_WIDTH, FINGER_SPAN, FINGER_THICKNESS, HAND_BOX
 from .interface import SampleRequest, Sampler
+from .mesh import Mesh
 from .support_heights import SupportHeights
 
 if TYPE_CHECKING:
@@ -41,7 +41,7 @@ INSIDE = 1e-4           # ray origins start this far inside the surface
 # (SamplerBudget.grasp_*).
 
 
-def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
+def antipodal_pairs(mesh: Mesh, count: int, rng: np.random.Generator
                     ) -> Iterator[Optional[Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]]:
     """For `count` sampled surface points, (p1, n1, p2, n2) if the point has an antipodal
     partner within the gripper's range, else None (one item per sample, for budgeting)."""
@@ -51,13 +51,13 @@ def antipodal_pairs(mesh: trimesh.Trimesh, count: int, rng: np.random.Generator
         yield (p1[i], n1[i], p2[i], n2[i]) if ok[i] else None
 
 
-def _partners(mesh: trimesh.Trimesh, p1: np.ndarray, n1: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _partners(mesh: Mesh, p1: np.ndarray, n1: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For surface points `p1` (n, 3) with outward normals `n1`: whether each has an antipodal
     partner in the gripper's range (n,), the partner p2 and its normal n2 (n, 3; zeros where
     none). A ray from just inside p1 along -n1: each ray's answer is its own, whichever
     others are cast with it."""
     ok, p2, n2 = np.zeros(len(p1), dtype=bool), np.zeros((len(p1), 3)), np.zeros((len(p1), 3))
-    tri, ray, hits = mesh.ray.intersects_id(p1 - INSIDE * n1, -n1, multiple_hits=False, return_locations=True)
+    ray, tri, hits = mesh.first_hits(p1 - INSIDE * n1, -n1)
     for face, i, hit in zip(tri, ray, hits):
         normal = mesh.face_normals[face]
         width = float(np.linalg.norm(hit - p1[i]))
@@ -75,7 +75,7 @@ class AntipodalPool:
     hundred of the points, and casting all 4096 rays up front cost 70-150 ms a shape (a
     box, a ladle; 300: 6-8 ms)."""
 
-    def __init__(self, mesh: trimesh.Trimesh, size: int):
+    def __init__(self, mesh: Mesh, size: int):
         self.mesh, self.size = mesh, size
         self.p1, self.n1 = sample_surface(mesh, size, np.random.default_rng(0))
         self.known = np.zeros(size, dtype=bool)
@@ -94,14 +94,14 @@ class AntipodalPool:
         return self.p1[drawn], self.p2[drawn]
 
 
-def antipodal_pool(mesh: trimesh.Trimesh, budget: SamplerBudget = SamplerBudget()) -> AntipodalPool:
+def antipodal_pool(mesh: Mesh, budget: SamplerBudget = SamplerBudget()) -> AntipodalPool:
     """The shape's pool of `budget.grasp_pool_points` points (shared by every proposal of
     the process that asks for that size)."""
     return _antipodal_pool(mesh, budget.grasp_pool_points)
 
 
 @lru_cache(maxsize=64)
-def _antipodal_pool(mesh: trimesh.Trimesh, size: int) -> AntipodalPool:
+def _antipodal_pool(mesh: Mesh, size: int) -> AntipodalPool:
     # Keyed by the size alone, not the whole budget: budgets differing elsewhere share pools.
     return AntipodalPool(mesh, size)
 
@@ -255,13 +255,13 @@ def _clear_of_supports(heights: SupportHeights, frames: np.ndarray, points: np.n
 
 
 @lru_cache(maxsize=64)
-def _surface_cloud(mesh: trimesh.Trimesh) -> np.ndarray:
+def _surface_cloud(mesh: Mesh) -> np.ndarray:
     """Points (N, 3) covering the object's surface (object frame), drawn once."""
     points, _ = sample_surface(mesh, CLOUD_POINTS, np.random.default_rng(0))
     return np.asarray(points)
 
 
-def _approach_frames(world: "World", mesh: trimesh.Trimesh, placed: np.ndarray, p1s: np.ndarray,
+def _approach_frames(world: "World", mesh: Mesh, placed: np.ndarray, p1s: np.ndarray,
                      p2s: np.ndarray, heights: SupportHeights, rng: np.random.Generator,
                      budget: SamplerBudget = SamplerBudget()) -> List[np.ndarray]:
     """For each antipodal pair (p1s[k], p2s[k], (n, 3) arrays), the gripper frames (object
@@ -313,7 +313,7 @@ def _scene(world: "World") -> tuple:
     return tuple(world.pose(name) for name in world.bodies) + (tuple(np.round(world.arm(), 6)),)
 
 
-def _support_heights(world: "World", obj: str, mesh: trimesh.Trimesh, scene: tuple) -> Tuple[np.ndarray, SupportHeights]:
+def _support_heights(world: "World", obj: str, mesh: Mesh, scene: tuple) -> Tuple[np.ndarray, SupportHeights]:
     """The object's pose matrix and the support heights around it in `scene`, shared by the
     calls that propose grasps of it there: a learned sampler fills its batch with several
     calls, and a step revisited in the same state calls again, and each would cast the same

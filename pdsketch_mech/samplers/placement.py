@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import pybullet as p
-import trimesh
 
 from ..world.collision import CollisionChecker, PENETRATION, body_penetration
 from ..world.contacts import read_contacts
@@ -21,6 +20,7 @@ from ..world.values import Placement, Pose
 from .budget import SamplerBudget
 from .geometry import matrix_pose, pose_matrix, rotation_between, rotvec_matrices, sample_surface, solid_mesh
 from .interface import SampleRequest, Sampler
+from .mesh import Mesh
 
 if TYPE_CHECKING:
     from ..world.world import World
@@ -48,20 +48,30 @@ def resting_facets(urdf: str, scale: float, com: Tuple[float, float, float]) -> 
         centre = (hull.triangles_center[faces] * areas[:, None]).sum(axis=0) / areas.sum()
         # Project the centre of mass onto the facet plane and test it against its triangles.
         foot = np.asarray(com) - np.dot(np.asarray(com) - centre, normal) * normal
-        bary = trimesh.triangles.points_to_barycentric(hull.triangles[faces], np.tile(foot, (len(faces), 1)))
+        bary = _barycentric(hull.triangles[faces], foot)
         stable = bool(np.any(np.all(bary >= -1e-6, axis=1)))
         if stable:
             facets.append((normal, centre, float(areas.sum())))
     return facets, np.asarray(hull.vertices)
 
 
-def up_surface(world: "World", support: str, up_cos: float) -> Optional[trimesh.Trimesh]:
+def _barycentric(triangles: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """(n, 3) barycentric coordinates of `point` in each of `triangles` (n, 3, 3), in its plane."""
+    v0, v1, v2 = triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0], point - triangles[:, 0]
+    d00, d01, d11 = (v0 * v0).sum(1), (v0 * v1).sum(1), (v1 * v1).sum(1)
+    d20, d21 = (v2 * v0).sum(1), (v2 * v1).sum(1)
+    denominator = d00 * d11 - d01 * d01
+    v = (d11 * d20 - d01 * d21) / denominator
+    w = (d00 * d21 - d01 * d20) / denominator
+    return np.stack([1.0 - v - w, v, w], axis=1)
+
+
+def up_surface(world: "World", support: str, up_cos: float) -> Optional[Mesh]:
     """The support's faces (world frame) whose normal is within acos(up_cos) of +z."""
     body = world.bodies[support]
-    mesh = solid_mesh(body.urdf, body.scale).copy()
-    mesh.apply_transform(pose_matrix(world.pose(support)))
+    mesh = solid_mesh(body.urdf, body.scale).transformed(pose_matrix(world.pose(support)))
     up = np.nonzero(mesh.face_normals[:, 2] > up_cos)[0]
-    return mesh.submesh([up], append=True) if len(up) else None
+    return mesh.submesh(up) if len(up) else None
 
 
 def object_pose(normal: np.ndarray, centre: np.ndarray, vertices: np.ndarray, point: np.ndarray,

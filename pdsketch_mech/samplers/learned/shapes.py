@@ -14,7 +14,6 @@ from __future__ import annotations
 import os
 import zlib
 from functools import lru_cache
-from importlib import metadata
 from typing import List, Tuple, Union
 from xml.etree import ElementTree
 
@@ -22,6 +21,7 @@ import numpy as np
 
 from ...util.disk_cache import content_key, load_arrays, store_arrays
 from ..geometry import sample_surface, solid_mesh
+from ..mesh import mesh_libraries, read_bytes
 
 CLOUD_POINTS = 256
 FORMAT = "unit-cloud/1"   # change when the drawing below changes: older entries are then not read
@@ -76,24 +76,7 @@ def _seed(urdf: str) -> int:
 def _derived_from(urdf: str, points: int) -> List[Union[str, bytes]]:
     """Everything a cloud depends on: the drawing, its seed, the URDF and its mesh files, and
     the libraries that read and unite the meshes."""
-    parts: List[Union[str, bytes]] = [FORMAT, str(points), str(_seed(urdf)), _read(urdf)]
+    parts: List[Union[str, bytes]] = [FORMAT, str(points), str(_seed(urdf)), read_bytes(urdf)]
     for mesh in ElementTree.parse(urdf).getroot().iter("mesh"):
-        parts.append(_read(os.path.join(os.path.dirname(urdf), mesh.get("filename", ""))))
-    return parts + list(_libraries())
-
-
-@lru_cache(maxsize=1)
-def _libraries() -> Tuple[str, ...]:
-    """The versions of the libraries that read, unite and sample meshes."""
-    out = []
-    for library in ("trimesh", "manifold3d", "numpy"):
-        try:
-            out.append(f"{library} {metadata.version(library)}")
-        except metadata.PackageNotFoundError:
-            out.append(f"{library} -")
-    return tuple(out)
-
-
-def _read(path: str) -> bytes:
-    with open(path, "rb") as handle:
-        return handle.read()
+        parts.append(read_bytes(os.path.join(os.path.dirname(urdf), mesh.get("filename", ""))))
+    return parts + list(mesh_libraries())
