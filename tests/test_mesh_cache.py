@@ -19,21 +19,16 @@ from conftest import ROOT
 @pytest.fixture
 def fresh_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("PDSKETCH_CACHE", str(tmp_path))
-    clear()
-    yield tmp_path
-    clear()
-
-
-def clear():
     geometry.solid_mesh.cache_clear()
-    geometry._unit_solid.cache_clear()
+    yield tmp_path
+    geometry.solid_mesh.cache_clear()
 
 
 @pytest.mark.parametrize("asset", ["l-stick/0", "soup-ladle/3", "plate/4", "block/0"])
 def test_the_cached_solid_is_trimeshs_solid_with_its_facets_and_hull(fresh_cache, asset):
     urdf = resolve_asset(asset)
-    reference = geometry._trimesh_solid(urdf, 1.0)
-    solid = geometry.solid_mesh(urdf, 1.0)
+    reference = geometry._trimesh_solid(urdf, 1.1)
+    solid = geometry.solid_mesh(urdf, 1.1)
     assert isinstance(solid, Mesh) and os.listdir(fresh_cache / "solids")
     assert np.allclose(solid.vertices, reference.vertices) and np.array_equal(solid.faces, reference.faces)
     assert np.allclose(solid.face_normals, reference.face_normals, atol=1e-9)
@@ -43,8 +38,8 @@ def test_the_cached_solid_is_trimeshs_solid_with_its_facets_and_hull(fresh_cache
     hull = solid.convex_hull
     assert np.allclose(hull.vertices, reference.convex_hull.vertices)
     assert [list(f) for f in hull.facets] == [list(f) for f in reference.convex_hull.facets]
-    clear()
-    again = geometry.solid_mesh(urdf, 1.0)          # from the disk this time
+    geometry.solid_mesh.cache_clear()
+    again = geometry.solid_mesh(urdf, 1.1)          # from the disk this time
     assert again is not solid and np.array_equal(again.faces, solid.faces)
 
 
@@ -71,7 +66,7 @@ def test_a_damaged_cache_entry_is_derived_again(fresh_cache):
     first = geometry.solid_mesh(urdf, 1.0)
     (entry,) = (fresh_cache / "solids").iterdir()
     entry.write_bytes(b"not an npz")
-    clear()
+    geometry.solid_mesh.cache_clear()
     again = geometry.solid_mesh(urdf, 1.0)
     assert np.array_equal(again.faces, first.faces) and np.allclose(again.vertices, first.vertices)
 
@@ -79,14 +74,6 @@ def test_a_damaged_cache_entry_is_derived_again(fresh_cache):
 def test_a_solid_without_trimesh_in_its_derivation_is_refused_a_hull_it_does_not_have():
     with pytest.raises(ValueError, match="without its convex hull"):
         Mesh(np.eye(3), np.array([[0, 1, 2]])).convex_hull
-
-
-def test_every_scale_of_an_asset_is_its_one_cached_solid_scaled(fresh_cache):
-    urdf = resolve_asset("hammer/0")
-    solids = [geometry.solid_mesh(urdf, scale) for scale in (0.9, 1.0, 1.137)]
-    assert len(os.listdir(fresh_cache / "solids")) == 1
-    assert np.allclose(solids[2].vertices, 1.137 * solids[1].vertices)
-    assert np.allclose(solids[0].convex_hull.vertices, 0.9 * solids[1].convex_hull.vertices)
 
 
 def test_a_plan_on_cached_assets_imports_neither_trimesh_nor_scipy(tmp_path):
@@ -108,5 +95,5 @@ def test_cached_solid_keeps_what_derive_gave_when_the_cache_cannot_be_written(mo
     blocked.write_text("")
     monkeypatch.setenv("PDSKETCH_CACHE", str(blocked))    # a file where the folder should be
     box = trimesh.creation.box((0.1, 0.2, 0.3))
-    solid = cached_solid(resolve_asset("box/0"), lambda urdf, scale: box)
+    solid = cached_solid(resolve_asset("box/0"), 1.0, lambda urdf, scale: box)
     assert np.allclose(solid.bounds, box.bounds) and len(solid.convex_hull.faces) == len(box.convex_hull.faces)

@@ -133,12 +133,7 @@ def solid_mesh(urdf: str, scale: float = 1.0) -> Mesh:
     hull (shared; never modified). The concatenated parts of `urdf_mesh` keep the faces where
     parts overlap or touch (a table's leg tops under its top), which would stop rays, offer
     hidden upward faces, and yield points inside the object."""
-    return _unit_solid(urdf).scaled(float(scale))
-
-
-@lru_cache(maxsize=256)
-def _unit_solid(urdf: str) -> Mesh:
-    return cached_solid(urdf, _trimesh_solid)
+    return cached_solid(urdf, scale, _trimesh_solid)
 
 
 def _trimesh_solid(urdf: str, scale: float) -> "trimesh.Trimesh":

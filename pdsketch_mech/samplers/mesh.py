@@ -19,7 +19,7 @@ import numpy as np
 
 from ..util.disk_cache import content_key, load_arrays, store_arrays
 
-FORMAT = "solid/2"     # change when what is stored changes: older entries are then not read
+FORMAT = "solid/1"     # change when what is stored changes: older entries are then not read
 RAY_EPSILON = 1e-9     # a hit this close to a triangle's edge (barycentric) still counts
 RAY_BLOCK = 200_000    # ray-triangle pairs tested at once (memory: ~10 arrays of this many)
 
@@ -70,13 +70,6 @@ class Mesh:
     @cached_property
     def bounds(self) -> np.ndarray:
         return np.array([self.vertices.min(axis=0), self.vertices.max(axis=0)])
-
-    def scaled(self, factor: float) -> "Mesh":
-        """This mesh (and its hull) scaled uniformly about its frame's origin."""
-        if factor == 1.0:
-            return self
-        hull = self._hull.scaled(factor) if self._hull is not None else None
-        return Mesh(self.vertices * factor, self.faces, self.facets, hull)
 
     def transformed(self, matrix: np.ndarray) -> "Mesh":
         """This mesh (and its hull) moved by a 4x4 rigid transform."""
@@ -129,19 +122,17 @@ class Mesh:
         return origin + direction * distance[faces][:, None], faces
 
 
-def cached_solid(urdf: str, derive) -> Mesh:
-    """The solid of `urdf` at scale 1 from the disk cache, else `derive(urdf, 1.0)` (a
-    trimesh solid, with `.facets` and `.convex_hull`) turned into arrays and kept there.
-    Scaling commutes with union and hull: other scales are `scaled` (every instance of a
-    task distribution has a scale of its own)."""
-    name = os.path.join("solids", content_key(_derived_from(urdf)) + ".npz")
+def cached_solid(urdf: str, scale: float, derive) -> Mesh:
+    """The solid of `urdf` at `scale` from the disk cache, else `derive(urdf, scale)` (a
+    trimesh solid, with `.facets` and `.convex_hull`) turned into arrays and kept there."""
+    name = os.path.join("solids", content_key(_derived_from(urdf, scale)) + ".npz")
     entry = load_arrays(name)
     if entry is not None:
         try:
             return _from_arrays(entry)
         except (KeyError, ValueError, IndexError):
             pass   # a damaged or foreign entry: derive it again
-    solid = derive(urdf, 1.0)
+    solid = derive(urdf, scale)
     hull = solid.convex_hull
     arrays = {**_to_arrays("", solid), **_to_arrays("hull_", hull)}
     store_arrays(name, **arrays)
@@ -169,10 +160,10 @@ def _from_arrays(arrays: Dict[str, np.ndarray]) -> Mesh:
     return mesh("", mesh("hull_"))
 
 
-def _derived_from(urdf: str) -> List[Union[str, bytes]]:
-    """Everything a solid depends on: the URDF and its mesh files, and the libraries that
-    read and unite the meshes."""
-    parts: List[Union[str, bytes]] = [FORMAT, read_bytes(urdf)]
+def _derived_from(urdf: str, scale: float) -> List[Union[str, bytes]]:
+    """Everything a solid depends on: the URDF and its mesh files, the scale, and the
+    libraries that read and unite the meshes."""
+    parts: List[Union[str, bytes]] = [FORMAT, repr(float(scale)), read_bytes(urdf)]
     for mesh in ElementTree.parse(urdf).getroot().iter("mesh"):
         parts.append(read_bytes(os.path.join(os.path.dirname(urdf), mesh.get("filename", ""))))
     return parts + list(mesh_libraries())
