@@ -17,6 +17,7 @@ import pybullet as p
 from ..world.motion import cartesian_path, path_collision
 from ..world.render import Camera, View, movable_boxes, render, scene_camera
 from ..world.robot import ARM_JOINTS, FINGER_JOINTS
+from ..world.world import REST_ANGULAR, REST_LINEAR
 
 if TYPE_CHECKING:
     from ..world.snapshot import Snapshot
@@ -24,7 +25,6 @@ if TYPE_CHECKING:
 
 STEPS_PER_WAYPOINT = 8   # ~33 ms of simulated time per 1 cm waypoint: pushes move at ~0.3 m/s
 SETTLE_AFTER_MOTION = 60
-REST_LINEAR, REST_ANGULAR = 2e-3, 2e-2  # m/s, rad/s: at rest (World.settle's tolerances)
 CLEARANCE = 0.01          # metres: a waypoint this clear of everything, with nothing moving, is teleported
 START_TOLERANCE = 1e-3   # radians: a trajectory must start at the arm's configuration
 CONTACT_DISTANCE = 2e-3  # metres: a finger this close to the object touches it
@@ -191,8 +191,7 @@ class FreeTail:
             if not _clear_of_everything(world):
                 first = later + 1
                 break
-        for joint, (position, velocity, _, _) in zip(ARM_JOINTS, joints):
-            p.resetJointState(world.robot, joint, position, velocity, physicsClientId=client)
+        _reset_joints(world, ARM_JOINTS, joints)
         world.arm_targets = targets
         if held_state is not None:
             (position, orientation), (linear, angular) = held_state
@@ -281,10 +280,15 @@ def _teleport_fingers_free(world: "World", half_width: float) -> bool:
     world.set_fingers(half_width)
     if _clear_of_everything(world, FINGER_JOINTS):
         return True
-    for joint, (position, velocity, _, _) in zip(FINGER_JOINTS, joints):
-        p.resetJointState(world.robot, joint, position, velocity, physicsClientId=client)
+    _reset_joints(world, FINGER_JOINTS, joints)
     world.finger_target = half_width
     return False
+
+
+def _reset_joints(world: "World", joints: Sequence[int], states: Sequence[tuple]) -> None:
+    """Put `joints` back to their `states` (getJointStates' positions and velocities)."""
+    for joint, (position, velocity, _, _) in zip(joints, states):
+        p.resetJointState(world.robot, joint, position, velocity, physicsClientId=world.client)
 
 
 def fingers_touching(world: "World", obj: str) -> int:

@@ -41,7 +41,7 @@ def matrix_pose(matrix: np.ndarray) -> Pose:
 def matrix_quaternion(r: np.ndarray) -> Tuple[float, float, float, float]:
     """The unit quaternion (x, y, z, w), w >= 0, of a rotation matrix, by the largest of its
     four candidate components (numerically safe at every angle). Plain floats: a sampler
-    turns tens of thousands of matrices into poses (scipy's Rotation: ~90 us a call)."""
+    turns tens of thousands of matrices into poses, and scipy's Rotation is slow per call."""
     (m00, m01, m02), (m10, m11, m12), (m20, m21, m22) = (tuple(map(float, row)) for row in r)
     trace = m00 + m11 + m22
     if trace > 0:

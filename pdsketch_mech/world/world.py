@@ -47,6 +47,8 @@ class SceneError(ValueError):
         super().__init__(f"scene object '{name}': {message}")
 
 
+REST_LINEAR, REST_ANGULAR = 2e-3, 2e-2  # m/s, rad/s: an object slower than these is at rest
+
 class World:
     """A simulated tabletop: the Panda at `robot_base` and objects added from a scene."""
 
@@ -282,7 +284,7 @@ class World:
         linear = [vx + (wy * rz - wz * ry), vy + (wz * rx - wx * rz), vz + (wx * ry - wy * rx)]
         p.resetBaseVelocity(body.id, linear, list(state[7]), physicsClientId=self.client)
 
-    def settle(self, max_steps: int = 480, linear_tol: float = 2e-3, angular_tol: float = 2e-2,
+    def settle(self, max_steps: int = 480, linear_tol: float = REST_LINEAR, angular_tol: float = REST_ANGULAR,
                quiet_steps: int = 10) -> int:
         """Step until every movable object has been at rest for `quiet_steps` steps (or
         `max_steps` pass): the briefly-dynamic outcome of a release or a push. Returns the
