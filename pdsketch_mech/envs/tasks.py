@@ -17,7 +17,7 @@ from .spec import Align, Assets, Distractors, ObjectSpec, TaskSpec
 TABLE_EDGE_Y = 0.6
 SMALL_TABLE_EDGE_Y = 0.5   # table/1 (0.8 x 1.0 m) at (0.6, 0): Edge and CoM use its +y edge, within easy reach
 SCALE = (0.85, 1.15)
-LEDGE_HEIGHT = 0.02  # the ledge's platform top (world/shapes.py `_ledge`)
+LEDGE_HEIGHT = 0.02  # the ledge's platform top (world/shape_builders.py `ledge`)
 
 TABLE = ObjectSpec("table", Assets(("table",), ("table",)), xy=(0.6, 0.0), on=None, fixed=True,
                    noise_xy=(0.0, 0.0), noise_yaw=0.0, role="the table, top at z = 0")

@@ -275,8 +275,7 @@ def _teleport_fingers_free(world: "World", half_width: float) -> bool:
     they then sweep through free space. Else leave them (False)."""
     if world.observers or not _at_rest(world) or not _clear_of_everything(world, FINGER_JOINTS):
         return False
-    client = world.client
-    joints = p.getJointStates(world.robot, FINGER_JOINTS, physicsClientId=client)
+    joints = p.getJointStates(world.robot, FINGER_JOINTS, physicsClientId=world.client)
     world.set_fingers(half_width)
     if _clear_of_everything(world, FINGER_JOINTS):
         return True

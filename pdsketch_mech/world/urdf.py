@@ -1,6 +1,6 @@
 """Write a category model as a URDF folder: model.urdf, visual.obj, collision_<i>.obj.
 
-Conventions (see also `shapes.py`):
+Conventions (see also `shape_builders.py`):
 - one link; each convex part is its own `<collision>` element, so concave objects keep
   their shape in PyBullet (a mesh collider would be replaced by its convex hull);
 - movable objects: the link frame is at the centre of mass with the design axes (x the long

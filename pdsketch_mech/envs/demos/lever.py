@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from ...world.world import World
     from ..generate import Instance
 
-FULCRUM = 0.02      # the ledge's fulcrum edge, beyond the cradle's centre (world/shapes.py `_ledge`)
+FULCRUM = 0.02      # the ledge's fulcrum edge, beyond the cradle's centre (world/shape_builders.py `ledge`)
 CLEAR = 0.012       # between the weight and the rim wall
 ABOVE = 0.10
 

@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from ...world.world import World
     from ..generate import Instance
 
-BOARD = 0.01          # the slope's board thickness (world/shapes.py `_slope`)
+BOARD = 0.01          # the slope's board thickness (world/shape_builders.py `slope`)
 LENGTH = 0.3          # the board's length along the incline
 BLOCKER_AT = 0.35     # the blocker's centre, as a fraction of the board from its lower end
 GAP = 0.003           # objects are let go this far above the surface
